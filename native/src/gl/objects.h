@@ -1,0 +1,63 @@
+// Owning wrappers of GL object names (render thread only) and the few helpers every pass uses.
+#pragma once
+
+#include <epoxy/gl.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bounce::gl {
+
+template <void (*Delete)(GLuint)>
+class Name {
+ public:
+  Name() = default;
+  explicit Name(GLuint id) : id_(id) {}
+  ~Name() { reset(); }
+  Name(Name&& other) noexcept : id_(std::exchange(other.id_, 0)) {}
+  Name& operator=(Name&& other) noexcept {
+    if (this != &other) {
+      reset();
+      id_ = std::exchange(other.id_, 0);
+    }
+    return *this;
+  }
+  Name(const Name&) = delete;
+  Name& operator=(const Name&) = delete;
+  GLuint id() const { return id_; }
+  explicit operator bool() const { return id_ != 0; }
+  void reset() {
+    if (id_) Delete(id_);
+    id_ = 0;
+  }
+
+ private:
+  GLuint id_ = 0;
+};
+
+void delete_buffer(GLuint id);
+void delete_texture(GLuint id);
+void delete_framebuffer(GLuint id);
+void delete_vertex_array(GLuint id);
+void delete_program(GLuint id);
+void delete_query(GLuint id);
+
+using Buffer = Name<delete_buffer>;
+using Texture = Name<delete_texture>;
+using Framebuffer = Name<delete_framebuffer>;
+using VertexArray = Name<delete_vertex_array>;
+using Program = Name<delete_program>;
+using Query = Name<delete_query>;
+
+Buffer make_buffer(std::size_t bytes, const void* data, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
+// Grows (never shrinks) `buffer` to hold `bytes`, then uploads. Returns the capacity.
+void upload_buffer(Buffer& buffer, std::size_t& capacity, std::size_t bytes, const void* data);
+Texture make_texture_2d(GLenum internal_format, int width, int height, int levels = 1);
+Texture make_texture_cube(GLenum internal_format, int size);
+Framebuffer make_framebuffer(const std::vector<GLuint>& colour, GLuint depth, int layer = -1);
+
+// Raises Error(BOUNCE_ERROR_GL) naming `what` if GL reports an error (out of memory included).
+void check(const char* what);
+
+}  // namespace bounce::gl

@@ -1,0 +1,95 @@
+// The scene on the GPU (render thread only): one vertex buffer per mesh, textures, the instance and material
+// tables, and draw batches that draw every instance of a (mesh, slot, material) with one instanced call.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gl/objects.h"
+#include "scene_data.h"
+
+namespace bounce {
+
+// Fixed uniform locations and bindings shared with shaders/common/scene.glsl.
+namespace binding {
+constexpr GLint kViewProjection = 0;  // mat4 uniform
+constexpr GLint kInstanceOffset = 1;  // int uniform
+constexpr GLint kMaterial = 2;        // int uniform
+constexpr GLuint kSettingsBlock = 0;
+constexpr GLuint kInstances = 1;
+constexpr GLuint kInstanceLists = 2;
+constexpr GLuint kMaterials = 3;
+constexpr GLuint kLightBlock = 4;
+constexpr GLuint kBaseColorUnit = 0;
+}  // namespace binding
+
+class GpuScene {
+ public:
+  GpuScene();
+
+  void set_mesh(uint64_t key, std::shared_ptr<const MeshData> mesh);
+  void remove_mesh(uint64_t key);
+  void set_texture(uint64_t key, const TextureData& texture);
+  void remove_texture(uint64_t key);
+  void set_materials(std::vector<BounceMaterial> materials);
+  void set_instances(std::shared_ptr<const InstanceList> instances);
+  void set_lights(LightList lights) { lights_ = std::move(lights); ++light_version_; }
+  void set_world(const BounceWorld& world) { world_ = world; }
+
+  // Rebuilds batches and tables if anything changed since the last call.
+  void prepare();
+  // Draws every batch with the bound program; `alpha_tested_only` skips nothing, it is for readability of
+  // callers that need cut-outs: the shaders discard by material.
+  void draw() const;
+
+  const std::vector<BounceLight>& lights() const { return lights_.lights; }
+  const BounceWorld& world() const { return world_; }
+  // Bumped whenever drawn geometry changes (meshes, instances, cut-out materials): shadow maps depend on it.
+  uint64_t geometry_version() const { return geometry_version_; }
+  uint64_t light_version() const { return light_version_; }
+  glm::vec3 bounds_min() const { return bounds_min_; }
+  glm::vec3 bounds_max() const { return bounds_max_; }
+  bool has_geometry() const { return !batches_.empty(); }
+  BounceSceneStats stats() const;
+
+ private:
+  struct GpuMesh {
+    std::shared_ptr<const MeshData> data;
+    gl::Buffer vertices;
+  };
+  struct GpuTexture {
+    gl::Texture texture;
+    uint64_t bytes = 0;
+  };
+  struct Batch {
+    const GpuMesh* mesh;
+    uint32_t first_vertex, vertex_count;
+    uint32_t material;
+    uint32_t instance_offset, instance_count;
+  };
+
+  void rebuild();
+
+  std::map<uint64_t, GpuMesh> meshes_;
+  std::map<uint64_t, GpuTexture> textures_;
+  std::vector<BounceMaterial> materials_;
+  std::shared_ptr<const InstanceList> instances_;
+  LightList lights_;
+  BounceWorld world_{};
+
+  std::vector<Batch> batches_;
+  gl::VertexArray vertex_array_;
+  gl::Buffer instance_buffer_, instance_list_buffer_, material_buffer_;
+  std::size_t instance_capacity_ = 0, instance_list_capacity_ = 0, material_capacity_ = 0;
+  gl::Texture white_texture_;
+  bool dirty_ = true;
+  uint64_t geometry_version_ = 1, light_version_ = 1;
+  uint64_t drawn_triangles_ = 0;
+  glm::vec3 bounds_min_{0.0f}, bounds_max_{0.0f};
+};
+
+}  // namespace bounce

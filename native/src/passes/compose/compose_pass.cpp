@@ -1,0 +1,72 @@
+#include "passes/compose/compose_pass.h"
+
+#include <cmath>
+
+#include "gl/shader.h"
+
+namespace bounce {
+
+ComposePass::ComposePass()
+    : program_(gl::build_program({{GL_VERTEX_SHADER, "common/fullscreen.vert"},
+                                  {GL_FRAGMENT_SHADER, "compose/compose.frag"}})) {}
+
+void ComposePass::clear(int width, int height) {
+  if (width_ != width || height_ != height) {
+    std::vector<GLuint> ids;
+    for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov) {
+      targets_[aov] = gl::make_texture_2d(aov == BOUNCE_AOV_DEPTH ? GL_R32F : GL_RGBA32F, width, height);
+      ids.push_back(targets_[aov].id());
+    }
+    framebuffer_ = gl::make_framebuffer(ids, 0);
+    gl::check("allocating the accumulation targets");
+    width_ = width;
+    height_ = height;
+  }
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  const float background_depth[4] = {1e10f, 0.0f, 0.0f, 0.0f};
+  for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
+    glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, aov, aov == BOUNCE_AOV_DEPTH ? background_depth : zero);
+}
+
+void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct) {
+  StageScope scope(context.timer, Stage::Compose);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  glViewport(0, 0, context.width, context.height);
+  gbuffer.bind_for_reading();
+  glBindTextureUnit(8, direct);
+  glUseProgram(program_.id());
+  const BounceWorld& world = context.scene.world();
+  glUniform3fv(0, 1, world.background);
+  glUniform1f(1, world.transparent ? 0.0f : 1.0f);
+  glEnable(GL_BLEND);
+  for (GLuint aov = 0; aov < BOUNCE_AOV_COUNT; ++aov) {
+    glBlendFunci(aov, GL_ONE, GL_ONE);
+    glBlendEquationi(aov, aov == BOUNCE_AOV_DEPTH ? GL_MIN : GL_FUNC_ADD);
+  }
+  draw_fullscreen_triangle();
+  glDisable(GL_BLEND);
+}
+
+uint64_t ComposePass::read(int aov, int samples, float* frame, int frame_width, int x, int y) const {
+  const int channels = bounce_aov_channels(aov);
+  const bool depth = aov == BOUNCE_AOV_DEPTH;
+  scratch_.resize(std::size_t(width_) * height_ * (depth ? 1 : 4));
+  glGetTextureImage(targets_[aov].id(), 0, depth ? GL_RED : GL_RGBA, GL_FLOAT,
+                    static_cast<GLsizei>(scratch_.size() * sizeof(float)), scratch_.data());
+  const float scale = depth ? 1.0f : 1.0f / static_cast<float>(samples);
+  const int stride = depth ? 1 : 4;
+  uint64_t nonfinite = 0;
+  for (int row = 0; row < height_; ++row) {
+    for (int col = 0; col < width_; ++col) {
+      const float* src = scratch_.data() + (std::size_t(row) * width_ + col) * stride;
+      float* dst = frame + ((std::size_t(y) + row) * frame_width + x + col) * channels;
+      bool finite = true;
+      for (int c = 0; c < channels; ++c) finite = finite && std::isfinite(src[c]);
+      nonfinite += finite ? 0 : 1;
+      for (int c = 0; c < channels; ++c) dst[c] = finite ? src[c] * scale : 0.0f;
+    }
+  }
+  return nonfinite;
+}
+
+}  // namespace bounce

@@ -1,0 +1,31 @@
+// Adds each sample's AOVs (Combined = direct + emission, or the background) into accumulation targets and
+// reads their average back. Shaders: shaders/common/fullscreen.vert, shaders/compose/compose.frag.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "gl/objects.h"
+#include "passes/gbuffer/gbuffer_pass.h"
+#include "passes/render_context.h"
+
+namespace bounce {
+
+class ComposePass {
+ public:
+  ComposePass();
+  void clear(int width, int height);
+  void accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct);
+  // Averages `samples` accumulated samples of AOV `aov` into dst (width * height * channels floats) at the
+  // pixel offset (x, y) of a frame `frame_width` wide; returns how many values were not finite (set to 0).
+  uint64_t read(int aov, int samples, float* frame, int frame_width, int x, int y) const;
+
+ private:
+  gl::Program program_;
+  std::array<gl::Texture, BOUNCE_AOV_COUNT> targets_;
+  gl::Framebuffer framebuffer_;
+  int width_ = 0, height_ = 0;
+  mutable std::vector<float> scratch_;
+};
+
+}  // namespace bounce

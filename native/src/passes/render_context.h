@@ -1,0 +1,31 @@
+// What every pass of one sample sees: the scene, the settings, the camera of the tile, the sample index.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "bounce/bounce.h"
+#include "gpu_scene.h"
+#include "stage_timer.h"
+
+namespace bounce {
+
+struct RenderContext {
+  const GpuScene& scene;
+  const BounceSettings& settings;
+  StageTimer& timer;
+  int width, height;                // of the tile being rendered
+  glm::mat4 view_projection;        // jittered, cropped to the tile
+  glm::mat4 world_to_view;
+  glm::vec3 camera_position;
+  glm::vec3 camera_forward;
+  bool orthographic;
+  uint32_t sample;                  // progressive sample index
+  uint32_t seed;                    // settings.seed mixed with the frame number
+};
+
+// Draws the fullscreen triangle of shaders/common/fullscreen.vert.
+void draw_fullscreen_triangle();
+
+}  // namespace bounce

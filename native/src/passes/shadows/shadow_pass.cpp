@@ -1,0 +1,206 @@
+#include "passes/shadows/shadow_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "gl/shader.h"
+#include "sampling.h"
+
+namespace bounce {
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+constexpr float kWidestPerspectiveHalfAngle = 75.0f * kPi / 180.0f;
+constexpr double kShadowMemoryBudget = 1024.0 * 1024.0 * 1024.0;
+
+glm::vec3 vec3_of(const float* v) { return {v[0], v[1], v[2]}; }
+
+glm::vec3 any_perpendicular(glm::vec3 d) {
+  const glm::vec3 axis = std::abs(d.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
+  return glm::normalize(glm::cross(d, axis));
+}
+
+ShadowKind kind_of(const BounceLight& light) {
+  if (!light.cast_shadow) return kShadowNone;
+  if (light.type == BOUNCE_LIGHT_SUN) return kShadowOrthographic;
+  if (light.type == BOUNCE_LIGHT_SPOT && light.spot_half_angle <= kWidestPerspectiveHalfAngle)
+    return kShadowPerspective;
+  return kShadowCube;
+}
+
+gl::Texture make_shadow_texture(ShadowKind kind, int size) {
+  gl::Texture texture = kind == kShadowCube ? gl::make_texture_cube(GL_DEPTH_COMPONENT32F, size)
+                                            : gl::make_texture_2d(GL_DEPTH_COMPONENT32F, size, size);
+  const GLuint id = texture.id();
+  glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);  // 2x2 hardware PCF
+  glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  glTextureParameteri(id, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(id, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  return texture;
+}
+
+}  // namespace
+
+glm::vec3 light_shadow_origin(const BounceLight& light, uint32_t sample, uint32_t seed, uint32_t light_index,
+                              float softness) {
+  const glm::vec2 rotation(hash_to_unit(hash_combine(seed, 3 * light_index)),
+                           hash_to_unit(hash_combine(seed, 3 * light_index + 1)));
+  const glm::vec2 u = sample == 0 ? glm::vec2(0.5f) : r2_point(sample, rotation);
+  const glm::vec3 centre = vec3_of(light.position);
+  const glm::vec3 ax = vec3_of(light.axis_x), ay = vec3_of(light.axis_y), az = vec3_of(light.axis_z);
+  switch (light.type) {
+    case BOUNCE_LIGHT_SUN: {
+      const float half_angle = 0.5f * light.sun_angle * softness;
+      if (sample == 0 || half_angle <= 0.0f) return az;
+      const float cos_theta = 1.0f - u.x * (1.0f - std::cos(half_angle));
+      const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+      const float phi = 2.0f * kPi * u.y;
+      return glm::normalize(cos_theta * az + sin_theta * (std::cos(phi) * ax + std::sin(phi) * ay));
+    }
+    case BOUNCE_LIGHT_AREA_RECT:
+      return centre + softness * ((2.0f * u.x - 1.0f) * light.half_size[0] * ax +
+                                  (2.0f * u.y - 1.0f) * light.half_size[1] * ay);
+    case BOUNCE_LIGHT_AREA_ELLIPSE: {
+      const glm::vec2 d = concentric_disk(u);
+      return centre + softness * (d.x * light.half_size[0] * ax + d.y * light.half_size[1] * ay);
+    }
+    default: {  // point, spot: uniform in the ball of the light's radius
+      if (sample == 0 || light.radius <= 0.0f) return centre;
+      const float z = 1.0f - 2.0f * u.x;
+      const float r_xy = std::sqrt(std::max(0.0f, 1.0f - z * z));
+      const float phi = 2.0f * kPi * u.y;
+      const float radius = light.radius * softness * std::cbrt(hash_to_unit(hash_combine(seed + sample, light_index)));
+      return centre + radius * glm::vec3(r_xy * std::cos(phi), r_xy * std::sin(phi), z);
+    }
+  }
+}
+
+ShadowPass::ShadowPass()
+    : program_(gl::build_program({{GL_VERTEX_SHADER, "shadows/shadow.vert"},
+                                  {GL_FRAGMENT_SHADER, "shadows/shadow.frag"}})) {
+  GLuint id = 0;
+  glCreateFramebuffers(1, &id);
+  framebuffer_ = gl::Framebuffer(id);
+  glNamedFramebufferDrawBuffer(id, GL_NONE);
+  glNamedFramebufferReadBuffer(id, GL_NONE);
+  // Samplers of both types must have a texture of their type bound, even when the light uses the other one.
+  dummy_2d_ = make_shadow_texture(kShadowOrthographic, 1);
+  dummy_cube_ = make_shadow_texture(kShadowCube, 1);
+  const float one = 1.0f;
+  glClearTexImage(dummy_2d_.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, &one);
+  glClearTexImage(dummy_cube_.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, &one);
+}
+
+void ShadowPass::trim(std::size_t light_count) {
+  if (maps_.size() > light_count) maps_.resize(light_count);
+}
+
+void ShadowPass::prepare(const RenderContext& context, std::size_t index, const BounceLight& light,
+                         LightBlock& block) {
+  glBindTextureUnit(6, dummy_2d_.id());
+  glBindTextureUnit(7, dummy_cube_.id());
+  const ShadowKind kind = context.scene.has_geometry() ? kind_of(light) : kShadowNone;
+  const glm::vec3 origin = light_shadow_origin(light, context.sample, context.seed, static_cast<uint32_t>(index),
+                                               context.settings.shadow_softness);
+  std::memcpy(block.shadow_origin, &origin[0], sizeof(float) * 3);
+  block.shadow_params[0] = static_cast<float>(kind);
+  if (kind == kShadowNone) return;
+
+  if (maps_.size() <= index) maps_.resize(index + 1);
+  ShadowMap& map = maps_[index];
+  const int faces = kind == kShadowCube ? 6 : 1;
+  int size = context.settings.shadow_map_size;
+  const double lights = static_cast<double>(std::max<std::size_t>(context.scene.lights().size(), 1));
+  while (size > 64 && lights * faces * 4.0 * size * size > kShadowMemoryBudget) size /= 2;
+
+  const glm::vec3 lo = context.scene.bounds_min(), hi = context.scene.bounds_max();
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  const float scene_radius = std::max(0.5f * glm::length(hi - lo), 1e-6f) * 1.01f;
+  const bool reuse = map.depth && map.kind == kind && map.size == size && map.origin == origin &&
+                     map.geometry_version == context.scene.geometry_version() &&
+                     std::memcmp(&map.light, &light, sizeof light) == 0;
+  if (!reuse) {
+    StageScope scope(context.timer, Stage::Shadows);
+    if (!map.depth || map.kind != kind || map.size != size) {
+      map.depth = make_shadow_texture(kind, size);
+      gl::check("allocating a shadow map");
+    }
+    map.kind = kind;
+    map.size = size;
+    map.origin = origin;
+    map.geometry_version = context.scene.geometry_version();
+    map.light = light;
+    glm::mat4 face_view_projections[6];
+    if (kind == kShadowOrthographic) {
+      const glm::vec3 eye = centre + origin * (2.0f * scene_radius);
+      const glm::mat4 view = glm::lookAt(eye, centre, any_perpendicular(origin));
+      face_view_projections[0] = glm::ortho(-scene_radius, scene_radius, -scene_radius, scene_radius,
+                                            0.5f * scene_radius, 3.5f * scene_radius) * view;
+      map.texel_factor = 2.0f * scene_radius / static_cast<float>(size);
+    } else {
+      float farthest = 0.0f;
+      for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+        farthest = std::max(farthest, glm::length(p - origin));
+      }
+      map.far_plane = std::max(farthest * 1.05f, 1e-5f);
+      map.near_plane = map.far_plane * 1e-4f;
+      if (kind == kShadowPerspective) {
+        const float half_fov = std::min(light.spot_half_angle + 0.035f, 1.5f);
+        const glm::vec3 forward = -vec3_of(light.axis_z);
+        const glm::mat4 view = glm::lookAt(origin, origin + forward, vec3_of(light.axis_y));
+        face_view_projections[0] = glm::perspective(2.0f * half_fov, 1.0f, map.near_plane, map.far_plane) * view;
+        map.texel_factor = 2.0f * std::tan(half_fov) / static_cast<float>(size);
+      } else {
+        // Cube-map face order and up vectors of the GL convention (+X, -X, +Y, -Y, +Z, -Z).
+        static const glm::vec3 directions[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+        static const glm::vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+        const glm::mat4 projection = glm::perspective(0.5f * kPi, 1.0f, map.near_plane, map.far_plane);
+        for (int f = 0; f < 6; ++f)
+          face_view_projections[f] = projection * glm::lookAt(origin, origin + directions[f], ups[f]);
+        map.texel_factor = 2.0f / static_cast<float>(size);
+      }
+    }
+    map.view_projection = face_view_projections[0];
+    render(context, map, face_view_projections, faces);
+  }
+  glBindTextureUnit(kind == kShadowCube ? 7 : 6, map.depth.id());
+  block.shadow_view_projection = map.view_projection;
+  block.shadow_params[1] = map.texel_factor;
+  block.shadow_params[2] = map.near_plane;
+  block.shadow_params[3] = map.far_plane;
+}
+
+void ShadowPass::render(const RenderContext& context, ShadowMap& map, const glm::mat4* face_view_projections,
+                        int faces) {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  glViewport(0, 0, map.size, map.size);
+  glUseProgram(program_.id());
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 1.0f);
+  for (int face = 0; face < faces; ++face) {
+    if (map.kind == kShadowCube)
+      glNamedFramebufferTextureLayer(framebuffer_.id(), GL_DEPTH_ATTACHMENT, map.depth.id(), 0, face);
+    else
+      glNamedFramebufferTexture(framebuffer_.id(), GL_DEPTH_ATTACHMENT, map.depth.id(), 0);
+    const float far_depth = 1.0f;
+    glClearBufferfv(GL_DEPTH, 0, &far_depth);
+    glUniformMatrix4fv(binding::kViewProjection, 1, GL_FALSE, glm::value_ptr(face_view_projections[face]));
+    context.scene.draw();
+  }
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_DEPTH_TEST);
+  gl::check("rendering a shadow map");
+}
+
+}  // namespace bounce

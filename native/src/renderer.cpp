@@ -1,0 +1,125 @@
+#include "renderer.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "error.h"
+#include "sampling.h"
+
+namespace bounce {
+
+namespace {
+
+constexpr std::chrono::milliseconds kProgressivePublishInterval(250);
+
+struct Tile {
+  int x, y, width, height;  // in image pixels
+};
+
+}  // namespace
+
+glm::mat4 tile_matrix(int image_width, int image_height, int x0, int y0, int width, int height, glm::vec2 jitter) {
+  glm::mat4 m(1.0f);
+  m[0][0] = static_cast<float>(image_width) / width;
+  m[1][1] = static_cast<float>(image_height) / height;
+  m[3][0] = -((2.0f * x0 + width) / image_width - 1.0f) * m[0][0] + 2.0f * jitter.x / width;
+  m[3][1] = -((2.0f * y0 + height) / image_height - 1.0f) * m[1][1] + 2.0f * jitter.y / height;
+  return m;
+}
+
+Renderer::Renderer() : settings_buffer_(gl::make_buffer(sizeof(BounceSettings), nullptr)) {}
+
+bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks) {
+  scene_.prepare();
+  glNamedBufferSubData(settings_buffer_.id(), 0, sizeof settings, &settings);
+  glBindBufferBase(GL_UNIFORM_BUFFER, binding::kSettingsBlock, settings_buffer_.id());
+  int x0 = camera.crop[0], y0 = camera.crop[1], x1 = camera.crop[2], y1 = camera.crop[3];
+  if (x0 == 0 && y0 == 0 && x1 == 0 && y1 == 0) {
+    x1 = camera.width;
+    y1 = camera.height;
+  }
+  const glm::mat4 world_to_view = glm::make_mat4(camera.world_to_view);
+  const glm::mat4 projection = glm::make_mat4(camera.projection);
+  const glm::mat4 view_to_world = glm::inverse(world_to_view);
+  const uint32_t seed = hash_combine(static_cast<uint32_t>(settings.seed), static_cast<uint32_t>(camera.frame));
+  const glm::vec2 jitter_rotation(hash_to_unit(hash_combine(seed, 101)), hash_to_unit(hash_combine(seed, 102)));
+
+  std::vector<Tile> tiles;
+  for (int y = y0; y < y1; y += settings.tile_size)
+    for (int x = x0; x < x1; x += settings.tile_size)
+      tiles.push_back({x, y, std::min(settings.tile_size, x1 - x), std::min(settings.tile_size, y1 - y)});
+
+  auto frame = std::make_shared<Frame>();
+  frame->allocate(x1 - x0, y1 - y0);
+  timer_.reset();
+  uint64_t nonfinite = 0;
+  const int samples = settings.samples;
+  const int total_steps = samples * static_cast<int>(tiles.size());
+  auto last_publish = std::chrono::steady_clock::now();
+
+  auto read_tile = [&](Frame& into, const Tile& tile, int samples_done) {
+    StageScope scope(timer_, Stage::Readback);
+    uint64_t count = 0;
+    for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
+      count += compose_.read(aov, samples_done, into.aovs[aov].data(), into.width, tile.x - x0, tile.y - y0);
+    return count;
+  };
+  auto finish_info = [&](Frame& into, int samples_done) {
+    timer_.resolve();
+    into.info.width = into.width;
+    into.info.height = into.height;
+    into.info.samples = samples_done;
+    timer_.fill(into.info);
+  };
+
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    const Tile& tile = tiles[t];
+    compose_.clear(tile.width, tile.height);
+    for (int s = 0; s < samples; ++s) {
+      if (callbacks.cancelled()) return false;
+      const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
+      const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
+      const RenderContext context{scene_,
+                                  settings,
+                                  timer_,
+                                  tile.width,
+                                  tile.height,
+                                  tile_matrix(camera.width, camera.height, tile.x, tile.y, tile.width, tile.height,
+                                              jitter) *
+                                      projection * world_to_view,
+                                  world_to_view,
+                                  glm::vec3(view_to_world[3]),
+                                  -glm::normalize(glm::vec3(view_to_world[2])),
+                                  projection[2][3] == 0.0f,
+                                  static_cast<uint32_t>(s),
+                                  seed};
+      gbuffer_.execute(context);
+      direct_.execute(context, gbuffer_.gbuffer(), shadows_);
+      compose_.accumulate(context, gbuffer_.gbuffer(), direct_.output());
+      gl::check("rendering a sample");
+      timer_.resolve();
+      const int done = static_cast<int>(t) * samples + s + 1;
+      callbacks.progress(s + 1, static_cast<float>(done) / static_cast<float>(total_steps));
+
+      const bool last = s + 1 == samples;
+      const auto now = std::chrono::steady_clock::now();
+      if (tiles.size() == 1 && !last && (s == 0 || now - last_publish >= kProgressivePublishInterval)) {
+        auto partial = std::make_shared<Frame>();
+        partial->allocate(frame->width, frame->height);
+        partial->info.nonfinite_pixels = read_tile(*partial, tile, s + 1);
+        finish_info(*partial, s + 1);
+        callbacks.publish(partial);
+        last_publish = std::chrono::steady_clock::now();
+      }
+    }
+    nonfinite += read_tile(*frame, tile, samples);
+  }
+  finish_info(*frame, samples);
+  frame->info.nonfinite_pixels = nonfinite;
+  callbacks.publish(frame);
+  return true;
+}
+
+}  // namespace bounce

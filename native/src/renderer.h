@@ -1,0 +1,48 @@
+// Renders a frame on the render thread: tiles of at most settings.tile_size pixels, each the average of
+// settings.samples progressive samples; a sample runs G-buffer -> shadows + direct (per light) -> compose.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include <glm/glm.hpp>
+
+#include "bounce/bounce.h"
+#include "frame.h"
+#include "gpu_scene.h"
+#include "passes/compose/compose_pass.h"
+#include "passes/direct/direct_pass.h"
+#include "passes/gbuffer/gbuffer_pass.h"
+#include "passes/shadows/shadow_pass.h"
+#include "stage_timer.h"
+
+namespace bounce {
+
+struct RenderCallbacks {
+  std::function<bool()> cancelled;
+  std::function<void(std::shared_ptr<Frame>)> publish;  // progressive frames and the final one
+  std::function<void(int samples_done, float progress)> progress;
+};
+
+// The crop-and-jitter matrix that maps the clip space of the whole image to that of a tile, with the sample
+// offset `jitter` in pixels. Exposed for tests.
+glm::mat4 tile_matrix(int image_width, int image_height, int x0, int y0, int width, int height, glm::vec2 jitter);
+
+class Renderer {
+ public:
+  Renderer();
+  GpuScene& scene() { return scene_; }
+  // Returns false when cancelled.
+  bool render(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks);
+
+ private:
+  GpuScene scene_;
+  StageTimer timer_;
+  gl::Buffer settings_buffer_;  // the `Settings` uniform block of every shader
+  GBufferPass gbuffer_;
+  ShadowPass shadows_;
+  DirectPass direct_;
+  ComposePass compose_;
+};
+
+}  // namespace bounce

@@ -1,0 +1,196 @@
+#include "scene_data.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "error.h"
+
+namespace bounce {
+
+namespace {
+
+bool finite3(const float* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+
+std::string key_name(const char* what, uint64_t key) { return std::string(what) + " " + std::to_string(key); }
+
+glm::dvec3 load3(const float* v) { return {v[0], v[1], v[2]}; }
+
+}  // namespace
+
+std::shared_ptr<const MeshData> prepare_mesh(uint64_t key, const BounceMeshDesc& desc) {
+  require(desc.triangle_count == 0 || (desc.triangles && desc.positions),
+          key_name("mesh", key) + ": triangles or positions is NULL");
+  require(desc.triangle_count <= (1u << 28), key_name("mesh", key) + ": more than 2^28 triangles");
+  auto mesh = std::make_shared<MeshData>();
+  const uint32_t n = desc.triangle_count;
+
+  std::vector<uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  if (desc.triangle_slots) {
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return desc.triangle_slots[a] < desc.triangle_slots[b]; });
+  }
+  mesh->vertices.reserve(3ull * n);
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (uint32_t t : order) {
+    const uint32_t* tri = desc.triangles + 3ull * t;
+    for (int c = 0; c < 3; ++c) {
+      if (tri[c] >= desc.vertex_count)
+        fail(BOUNCE_ERROR_INVALID_ARGUMENT, key_name("mesh", key) + ": triangle " + std::to_string(t) +
+                                                " refers to vertex " + std::to_string(tri[c]) + " of " +
+                                                std::to_string(desc.vertex_count));
+    }
+    const float* p[3] = {desc.positions + 3ull * tri[0], desc.positions + 3ull * tri[1],
+                         desc.positions + 3ull * tri[2]};
+    if (!finite3(p[0]) || !finite3(p[1]) || !finite3(p[2])) {
+      ++mesh->dropped_triangles;
+      continue;
+    }
+    const glm::dvec3 cross = glm::cross(load3(p[1]) - load3(p[0]), load3(p[2]) - load3(p[0]));
+    const double twice_area = glm::length(cross);
+    if (!(twice_area > 0.0) || !std::isfinite(twice_area)) {
+      ++mesh->dropped_triangles;
+      continue;
+    }
+    const glm::vec3 face_normal = glm::vec3(cross / twice_area);
+    const int32_t slot = desc.triangle_slots ? std::max(desc.triangle_slots[t], 0) : 0;
+    if (mesh->submeshes.empty() || mesh->submeshes.back().slot != slot)
+      mesh->submeshes.push_back({slot, static_cast<uint32_t>(mesh->vertices.size()), 0});
+    for (int c = 0; c < 3; ++c) {
+      Vertex v{};
+      std::memcpy(v.position, p[c], sizeof v.position);
+      glm::vec3 normal = face_normal;
+      if (desc.corner_normals) {
+        const float* cn = desc.corner_normals + 9ull * t + 3ull * c;
+        const glm::vec3 given(cn[0], cn[1], cn[2]);
+        const float length = glm::length(given);
+        if (std::isfinite(length) && length > 1e-12f) normal = given / length;
+      }
+      std::memcpy(v.normal, &normal[0], sizeof v.normal);
+      if (desc.corner_uvs) {
+        const float* uv = desc.corner_uvs + 6ull * t + 2ull * c;
+        v.uv[0] = std::isfinite(uv[0]) ? uv[0] : 0.0f;
+        v.uv[1] = std::isfinite(uv[1]) ? uv[1] : 0.0f;
+      }
+      lo = glm::min(lo, glm::vec3(p[c][0], p[c][1], p[c][2]));
+      hi = glm::max(hi, glm::vec3(p[c][0], p[c][1], p[c][2]));
+      mesh->vertices.push_back(v);
+    }
+    mesh->submeshes.back().vertex_count += 3;
+  }
+  if (!mesh->vertices.empty()) {
+    mesh->bounds_min = lo;
+    mesh->bounds_max = hi;
+  }
+  return mesh;
+}
+
+std::shared_ptr<const InstanceList> prepare_instances(const BounceInstancesDesc& desc) {
+  require(desc.count == 0 || (desc.mesh_keys && desc.matrices && desc.slot_offsets && desc.slot_counts),
+          "instances: an array is NULL");
+  require(desc.slot_material_count == 0 || desc.slot_materials, "instances: slot_materials is NULL");
+  auto list = std::make_shared<InstanceList>();
+  list->instances.reserve(desc.count);
+  for (uint32_t i = 0; i < desc.count; ++i) {
+    const uint64_t end = uint64_t(desc.slot_offsets[i]) + desc.slot_counts[i];
+    if (end > desc.slot_material_count)
+      fail(BOUNCE_ERROR_INVALID_ARGUMENT, "instance " + std::to_string(i) + ": slots " +
+                                              std::to_string(desc.slot_offsets[i]) + "+" +
+                                              std::to_string(desc.slot_counts[i]) + " overrun slot_materials");
+    InstanceData instance;
+    instance.mesh_key = desc.mesh_keys[i];
+    instance.object_to_world = glm::make_mat4(desc.matrices + 16ull * i);
+    const float det = glm::determinant(glm::mat3(instance.object_to_world));
+    bool finite = std::isfinite(det) && det != 0.0f;
+    for (int k = 0; k < 16 && finite; ++k) finite = std::isfinite(desc.matrices[16ull * i + k]);
+    if (!finite) {
+      ++list->dropped;
+      continue;
+    }
+    instance.normal_to_world = glm::mat4(glm::inverseTranspose(glm::mat3(instance.object_to_world)));
+    const uint32_t* slots = desc.slot_materials + desc.slot_offsets[i];
+    instance.slot_materials.assign(slots, slots + desc.slot_counts[i]);
+    list->instances.push_back(std::move(instance));
+  }
+  return list;
+}
+
+LightList prepare_lights(uint32_t count, const BounceLight* lights) {
+  require(count == 0 || lights, "lights: NULL array");
+  LightList list;
+  for (uint32_t i = 0; i < count; ++i) {
+    BounceLight light = lights[i];
+    require(light.type >= BOUNCE_LIGHT_POINT && light.type <= BOUNCE_LIGHT_AREA_ELLIPSE,
+            "light " + std::to_string(i) + ": unknown type " + std::to_string(light.type));
+    const bool finite = finite3(light.position) && finite3(light.axis_x) && finite3(light.axis_y) &&
+                        finite3(light.axis_z) && finite3(light.intensity) && std::isfinite(light.radius) &&
+                        std::isfinite(light.half_size[0]) && std::isfinite(light.half_size[1]) &&
+                        std::isfinite(light.spot_half_angle) && std::isfinite(light.spot_blend) &&
+                        std::isfinite(light.sun_angle);
+    const float peak = std::max({light.intensity[0], light.intensity[1], light.intensity[2]});
+    const bool area = light.type == BOUNCE_LIGHT_AREA_RECT || light.type == BOUNCE_LIGHT_AREA_ELLIPSE;
+    if (!finite || !(peak > 0.0f) || (area && !(light.half_size[0] > 0.0f && light.half_size[1] > 0.0f))) {
+      ++list.skipped;
+      continue;
+    }
+    for (float& c : light.intensity) c = std::max(c, 0.0f);
+    light.radius = std::max(light.radius, 0.0f);
+    light.spot_half_angle = std::clamp(light.spot_half_angle, 0.0f, 3.14159265f);
+    light.spot_blend = std::clamp(light.spot_blend, 0.0f, 1.0f);
+    light.sun_angle = std::clamp(light.sun_angle, 0.0f, 3.14159265f);
+    list.lights.push_back(light);
+  }
+  return list;
+}
+
+std::vector<BounceMaterial> prepare_materials(uint32_t count, const BounceMaterial* materials) {
+  require(count == 0 || materials, "materials: NULL array");
+  std::vector<BounceMaterial> out(materials, materials + count);
+  for (BounceMaterial& m : out) {
+    for (float& c : m.base_color) c = std::isfinite(c) ? std::clamp(c, 0.0f, 1.0f) : 0.0f;
+    for (float& c : m.emission) c = std::isfinite(c) ? std::max(c, 0.0f) : 0.0f;
+    m.alpha = std::isfinite(m.alpha) ? std::clamp(m.alpha, 0.0f, 1.0f) : 1.0f;
+    m.alpha_threshold = std::isfinite(m.alpha_threshold) ? std::clamp(m.alpha_threshold, 0.0f, 1.0f) : 0.5f;
+  }
+  return out;
+}
+
+std::shared_ptr<const TextureData> prepare_texture(uint64_t key, int32_t width, int32_t height, int32_t format,
+                                                   const void* pixels) {
+  require(key != BOUNCE_NO_TEXTURE, "texture key 0 is reserved for 'no texture'");
+  require(width > 0 && height > 0 && width <= 32768 && height <= 32768,
+          key_name("texture", key) + ": size " + std::to_string(width) + "x" + std::to_string(height) +
+              " is outside 1..32768");
+  require(format >= BOUNCE_TEXTURE_RGBA8_SRGB && format <= BOUNCE_TEXTURE_RGBA32F,
+          key_name("texture", key) + ": unknown format " + std::to_string(format));
+  require(pixels, key_name("texture", key) + ": pixels is NULL");
+  auto texture = std::make_shared<TextureData>();
+  texture->width = width;
+  texture->height = height;
+  texture->format = format;
+  const std::size_t texel_bytes = format == BOUNCE_TEXTURE_RGBA32F ? 16 : 4;
+  const auto* bytes = static_cast<const unsigned char*>(pixels);
+  texture->bytes.assign(bytes, bytes + texel_bytes * std::size_t(width) * std::size_t(height));
+  if (format == BOUNCE_TEXTURE_RGBA32F) {
+    auto* texels = reinterpret_cast<float*>(texture->bytes.data());
+    for (std::size_t i = 0; i < std::size_t(width) * height * 4; ++i)
+      if (!std::isfinite(texels[i])) texels[i] = 0.0f;
+  }
+  return texture;
+}
+
+BounceMaterial default_material() {
+  BounceMaterial m{};
+  m.base_color[0] = m.base_color[1] = m.base_color[2] = 0.8f;
+  m.alpha = 1.0f;
+  m.alpha_threshold = 0.5f;
+  m.double_sided = 1;
+  return m;
+}
+
+}  // namespace bounce

@@ -1,0 +1,76 @@
+// The scene as the core holds it on the CPU: validated, ready to upload. Preparation runs on the caller's
+// thread (bounce_mesh_set etc.) so the render thread only uploads; none of this touches GL and all of it is
+// unit-tested without a context.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "bounce/bounce.h"
+
+namespace bounce {
+
+struct Vertex {
+  float position[3];
+  float normal[3];
+  float uv[2];
+};
+
+struct SubMesh {  // triangles of one material slot, contiguous in the vertex array
+  int32_t slot;
+  uint32_t first_vertex;
+  uint32_t vertex_count;
+};
+
+struct MeshData {
+  std::vector<Vertex> vertices;  // three per triangle, sorted by slot
+  std::vector<SubMesh> submeshes;
+  uint64_t dropped_triangles = 0;  // non-finite or zero-area
+  glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
+  bool empty() const { return vertices.empty(); }
+};
+
+// Validates indices (throws Error naming the triangle at fault) and drops what cannot be drawn.
+std::shared_ptr<const MeshData> prepare_mesh(uint64_t key, const BounceMeshDesc& desc);
+
+struct InstanceData {
+  uint64_t mesh_key;
+  glm::mat4 object_to_world;
+  glm::mat4 normal_to_world;  // inverse transpose
+  std::vector<uint32_t> slot_materials;
+};
+
+struct InstanceList {
+  std::vector<InstanceData> instances;
+  uint32_t dropped = 0;  // non-finite or singular transforms
+};
+
+// Material indices are checked when drawing: one out of range uses the default material.
+std::shared_ptr<const InstanceList> prepare_instances(const BounceInstancesDesc& desc);
+
+struct LightList {
+  std::vector<BounceLight> lights;  // finite, with some positive intensity
+  uint32_t skipped = 0;
+};
+
+LightList prepare_lights(uint32_t count, const BounceLight* lights);
+
+std::vector<BounceMaterial> prepare_materials(uint32_t count, const BounceMaterial* materials);
+
+struct TextureData {
+  int32_t width = 0, height = 0;
+  int32_t format = BOUNCE_TEXTURE_RGBA8_SRGB;
+  std::vector<unsigned char> bytes;
+};
+
+std::shared_ptr<const TextureData> prepare_texture(uint64_t key, int32_t width, int32_t height, int32_t format,
+                                                   const void* pixels);
+
+// The material every slot without one uses: grey 0.8, like Blender's default surface.
+BounceMaterial default_material();
+
+}  // namespace bounce

@@ -1,0 +1,49 @@
+// Per-stage GPU times from GL timer queries (GL_TIME_ELAPSED) plus render-thread wall time.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <vector>
+
+#include "bounce/bounce.h"
+#include "gl/objects.h"
+
+namespace bounce {
+
+enum class Stage { GBuffer, Shadows, Direct, Compose, Readback, Count };
+
+const char* stage_name(Stage stage);
+
+class StageTimer {
+ public:
+  void begin(Stage stage);
+  void end();
+  void resolve();  // waits for the queries issued since the last resolve and adds them up
+  void reset();
+  void fill(BounceFrameInfo& info) const;
+
+ private:
+  struct Pending {
+    Stage stage;
+    gl::Query query;
+  };
+  std::vector<Pending> pending_;
+  std::vector<gl::Query> free_;
+  std::array<double, static_cast<int>(Stage::Count)> gpu_ms_{}, cpu_ms_{};
+  Stage current_ = Stage::Count;
+  std::chrono::steady_clock::time_point started_;
+};
+
+// Scoped begin/end.
+class StageScope {
+ public:
+  StageScope(StageTimer& timer, Stage stage) : timer_(timer) { timer_.begin(stage); }
+  ~StageScope() { timer_.end(); }
+  StageScope(const StageScope&) = delete;
+  StageScope& operator=(const StageScope&) = delete;
+
+ private:
+  StageTimer& timer_;
+};
+
+}  // namespace bounce

@@ -1,0 +1,119 @@
+// One light in radiometric units (native/include/bounce/bounce.h, BounceLight) and its unshadowed irradiance.
+// Mirror: native/src/passes/direct/light_block.h.
+const float PI = 3.14159265358979;
+
+const int LIGHT_POINT = 0;
+const int LIGHT_SPOT = 1;
+const int LIGHT_SUN = 2;
+const int LIGHT_AREA_RECT = 3;
+const int LIGHT_AREA_ELLIPSE = 4;
+
+const int SHADOW_NONE = 0;
+const int SHADOW_ORTHOGRAPHIC = 1;
+const int SHADOW_PERSPECTIVE = 2;
+const int SHADOW_CUBE = 3;
+
+layout(std140, binding = 4) uniform LightBlock {
+  vec4 position_type;         // xyz position, w type
+  vec4 axis_x;
+  vec4 axis_y;
+  vec4 axis_z;                // the light shines along -axis_z
+  vec4 intensity;             // rgb: W/sr (point, spot), W/m^2 (sun), W/m^2/sr (area)
+  vec4 shape;                 // radius, half size x, half size y, spot half angle
+  vec4 spot_sun;              // spot blend, spot cos falloff (0/1), sun angle, -
+  vec4 shadow_origin;         // xyz: this sample's point on the light (cube, perspective) or direction (sun)
+  mat4 shadow_view_projection;
+  vec4 shadow_params;         // x kind, y texel size factor, z near, w far
+} light;
+
+int light_type() { return int(light.position_type.w); }
+
+// Blender/Cycles spot cone: smoothstep over the blend region inside the cone edge; Blender 3.x multiplies
+// the result by cos(phi) too.
+float spot_attenuation(vec3 from_light) {
+  float cos_phi = dot(from_light, -light.axis_z.xyz);
+  float cos_half = cos(light.shape.w);
+  if (cos_phi <= cos_half) return 0.0;
+  float smooth_width = (1.0 - cos_half) * light.spot_sun.x;
+  float t = cos_phi - cos_half;
+  float factor = smooth_width > 0.0 ? smoothstep(0.0, smooth_width, t) : 1.0;
+  return light.spot_sun.y != 0.0 ? factor * cos_phi : factor;
+}
+
+// Lambert's polygon formula: the cosine-weighted solid angle of a polygon seen from the origin, i.e.
+// E = L * polygon_projected_solid_angle(...). Vertices are relative to the receiver and already clipped to its
+// upper hemisphere.
+const int MAX_POLYGON = 40;
+const int ELLIPSE_SEGMENTS = 32;
+
+float polygon_projected_solid_angle(vec3 vertices[MAX_POLYGON], int count, vec3 n) {
+  float sum = 0.0;
+  for (int i = 0; i < count; ++i) {
+    vec3 a = normalize(vertices[i]);
+    vec3 b = normalize(vertices[(i + 1) % count]);
+    vec3 c = cross(a, b);
+    float sin_theta = length(c);
+    float theta = atan(sin_theta, dot(a, b));
+    sum += dot(n, c) * (sin_theta > 1e-7 ? theta / sin_theta : 1.0);
+  }
+  return 0.5 * abs(sum);
+}
+
+// Sutherland-Hodgman against the receiver's tangent plane: light below the horizon does not reach it.
+int clip_to_horizon(vec3 vertices[MAX_POLYGON], int count, vec3 n, out vec3 clipped[MAX_POLYGON]) {
+  int out_count = 0;
+  for (int i = 0; i < count; ++i) {
+    vec3 a = vertices[i];
+    vec3 b = vertices[(i + 1) % count];
+    float da = dot(n, a);
+    float db = dot(n, b);
+    if (da >= 0.0 && out_count < MAX_POLYGON) clipped[out_count++] = a;
+    if ((da >= 0.0) != (db >= 0.0) && out_count < MAX_POLYGON) clipped[out_count++] = mix(a, b, da / (da - db));
+  }
+  return out_count;
+}
+
+// The emitter outline in world space: a rectangle, or an ellipse as a polygon scaled to the ellipse's area.
+int area_light_polygon(out vec3 vertices[MAX_POLYGON]) {
+  vec3 c = light.position_type.xyz;
+  vec3 u = light.axis_x.xyz * light.shape.y;
+  vec3 v = light.axis_y.xyz * light.shape.z;
+  if (light_type() == LIGHT_AREA_RECT) {
+    vertices[0] = c - u - v;
+    vertices[1] = c + u - v;
+    vertices[2] = c + u + v;
+    vertices[3] = c - u + v;
+    return 4;
+  }
+  const float step = 2.0 * PI / float(ELLIPSE_SEGMENTS);
+  // Inscribed N-gon area is (N/2) sin(2 pi / N) r^2; scale so it equals pi r^2.
+  float scale = sqrt(PI / (0.5 * float(ELLIPSE_SEGMENTS) * sin(step)));
+  for (int i = 0; i < ELLIPSE_SEGMENTS; ++i) {
+    float angle = step * float(i);
+    vertices[i] = c + scale * (cos(angle) * u + sin(angle) * v);
+  }
+  return ELLIPSE_SEGMENTS;
+}
+
+// Unshadowed irradiance at x with shading normal n, per colour channel.
+vec3 light_irradiance(vec3 x, vec3 n) {
+  int type = light_type();
+  if (type == LIGHT_SUN) return light.intensity.rgb * max(dot(n, light.axis_z.xyz), 0.0);
+  vec3 to_light = light.position_type.xyz - x;
+  if (type == LIGHT_POINT || type == LIGHT_SPOT) {
+    float d2 = dot(to_light, to_light);
+    vec3 l = to_light * inversesqrt(max(d2, 1e-30));
+    float falloff = max(dot(n, l), 0.0) / (d2 + light.shape.x * light.shape.x);
+    if (type == LIGHT_SPOT) falloff *= spot_attenuation(-l);
+    return light.intensity.rgb * falloff;
+  }
+  // Area: only the side facing -axis_z emits.
+  if (dot(-to_light, -light.axis_z.xyz) <= 0.0) return vec3(0.0);
+  vec3 polygon[MAX_POLYGON];
+  int count = area_light_polygon(polygon);
+  for (int i = 0; i < count; ++i) polygon[i] -= x;
+  vec3 clipped[MAX_POLYGON];
+  int clipped_count = clip_to_horizon(polygon, count, n, clipped);
+  if (clipped_count < 3) return vec3(0.0);
+  return light.intensity.rgb * polygon_projected_solid_angle(clipped, clipped_count, n);
+}

@@ -1,0 +1,178 @@
+// Analytic checks: a diffuse plane (albedo 0.8) under each light type; the rendered radiance must match the
+// closed form L = albedo / pi * E within 1 % (DESIGN.md, light units table).
+#include <functional>
+
+#include "render_fixture.h"
+
+namespace bounce::test {
+namespace {
+
+constexpr float kAlbedo = 0.8f;
+constexpr float kHalf = 4.0f;
+constexpr int kSize = 64;
+
+class AnalyticLights : public RenderFixture {
+ protected:
+  void SetUp() override {
+    RenderFixture::SetUp();
+    add_plane(1, 40.0f);
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(kAlbedo);
+    look_down(kHalf, kSize);
+  }
+
+  // Compares every pixel whose expected value exceeds 1 % of the peak against `irradiance(x)`.
+  void expect_matches(const std::function<float(glm::vec3)>& irradiance, float tolerance = 0.01f) {
+    for (int shadows = 0; shadows < 2; ++shadows) {
+      light_.cast_shadow = shadows;
+      set_lights({light_});
+      const Image image = render(BOUNCE_AOV_COMBINED);
+      ASSERT_TRUE(all_finite(image));
+      float peak = 0.0f;
+      for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) peak = std::max(peak, irradiance(pixel_world(x, y, kHalf, kSize)));
+      ASSERT_GT(peak, 0.0f);
+      int compared = 0;
+      float worst = 0.0f;
+      for (int y = 0; y < kSize; ++y) {
+        for (int x = 0; x < kSize; ++x) {
+          const float expected = kAlbedo / kPi * irradiance(pixel_world(x, y, kHalf, kSize));
+          if (expected < 0.01f * kAlbedo / kPi * peak) continue;
+          const float got = image.at(x, y)[0];
+          const float error = std::abs(got - expected) / expected;
+          if (error > worst) worst_pixel_ = {x, y, got, expected};
+          worst = std::max(worst, error);
+          ++compared;
+        }
+      }
+      EXPECT_GT(compared, 100);
+      EXPECT_LT(worst, tolerance) << "shadows " << shadows << ", worst pixel (" << worst_pixel_.x << ", "
+                                  << worst_pixel_.y << "): " << worst_pixel_.got << " instead of "
+                                  << worst_pixel_.expected;
+    }
+  }
+
+  BounceLight light_{};
+  struct {
+    int x, y;
+    float got, expected;
+  } worst_pixel_{};
+};
+
+TEST_F(AnalyticLights, PointLight) {
+  const float power = 1000.0f, height = 3.0f;
+  light_ = make_light(BOUNCE_LIGHT_POINT, {0.5f, -0.25f, height}, glm::vec3(power / (4 * kPi)));
+  expect_matches([&](glm::vec3 p) {
+    const glm::vec3 d = glm::vec3(0.5f, -0.25f, height) - p;
+    const float d2 = glm::dot(d, d);
+    return power / (4 * kPi) * (d.z / std::sqrt(d2)) / d2;
+  });
+}
+
+TEST_F(AnalyticLights, PointLightWithRadius) {
+  const float power = 500.0f, height = 2.0f, radius = 0.5f;
+  light_ = make_light(BOUNCE_LIGHT_POINT, {0, 0, height}, glm::vec3(power / (4 * kPi)));
+  light_.radius = radius;
+  expect_matches([&](glm::vec3 p) {
+    const glm::vec3 d = glm::vec3(0, 0, height) - p;
+    const float d2 = glm::dot(d, d);
+    return power / (4 * kPi) * (d.z / std::sqrt(d2)) / (d2 + radius * radius);
+  });
+}
+
+TEST_F(AnalyticLights, SpotLight) {
+  const float power = 1000.0f, height = 3.0f, half_angle = 0.6f, blend = 0.3f;
+  light_ = make_light(BOUNCE_LIGHT_SPOT, {0, 0, height}, glm::vec3(power / (4 * kPi)));
+  light_.spot_half_angle = half_angle;
+  light_.spot_blend = blend;
+  expect_matches([&](glm::vec3 p) {
+    const glm::vec3 d = glm::vec3(0, 0, height) - p;
+    const float dist = glm::length(d);
+    const float cos_phi = d.z / dist;
+    const float cos_half = std::cos(half_angle);
+    if (cos_phi <= cos_half) return 0.0f;
+    const float t = std::clamp((cos_phi - cos_half) / ((1 - cos_half) * blend), 0.0f, 1.0f);
+    return power / (4 * kPi) * t * t * (3 - 2 * t) * cos_phi / (dist * dist);
+  });
+}
+
+TEST_F(AnalyticLights, SpotLightBlender3CosineFalloff) {
+  const float power = 1000.0f, height = 3.0f, half_angle = 0.7f;
+  light_ = make_light(BOUNCE_LIGHT_SPOT, {0, 0, height}, glm::vec3(power / (4 * kPi)));
+  light_.spot_half_angle = half_angle;
+  light_.spot_cos_falloff = 1;
+  expect_matches([&](glm::vec3 p) {
+    const glm::vec3 d = glm::vec3(0, 0, height) - p;
+    const float dist = glm::length(d);
+    const float cos_phi = d.z / dist;
+    if (cos_phi <= std::cos(half_angle)) return 0.0f;
+    return power / (4 * kPi) * cos_phi * cos_phi / (dist * dist);
+  });
+}
+
+TEST_F(AnalyticLights, SunLight) {
+  const float strength = 5.0f;
+  light_ = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(strength));
+  const glm::vec3 towards = glm::normalize(glm::vec3(0.3f, -0.25f, 1.0f));
+  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards));
+  const glm::vec3 y = glm::cross(towards, x);
+  std::memcpy(light_.axis_x, &x[0], 12);
+  std::memcpy(light_.axis_y, &y[0], 12);
+  std::memcpy(light_.axis_z, &towards[0], 12);
+  light_.sun_angle = 0.01f;
+  expect_matches([&](glm::vec3) { return strength * towards.z; });
+}
+
+// Irradiance from a Lambertian rectangle by numerical integration (midpoint rule, fine grid): independent of
+// the shader's closed form.
+float rectangle_irradiance(glm::vec3 p, glm::vec3 centre, glm::vec2 half, float radiance) {
+  const int n = 200;
+  double sum = 0.0;
+  const double dA = (2.0 * half.x / n) * (2.0 * half.y / n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const glm::vec3 q = centre + glm::vec3(-half.x + (i + 0.5f) * 2 * half.x / n, -half.y + (j + 0.5f) * 2 * half.y / n, 0);
+      const glm::vec3 d = q - p;
+      const double r2 = glm::dot(d, d);
+      const double cos_receiver = d.z / std::sqrt(r2);
+      const double cos_emitter = d.z / std::sqrt(r2);  // emitter faces -z, receiver +z
+      if (cos_receiver > 0) sum += cos_receiver * cos_emitter / r2 * dA;
+    }
+  }
+  return static_cast<float>(radiance * sum);
+}
+
+TEST_F(AnalyticLights, AreaRectangle) {
+  const float radiance = 20.0f;
+  const glm::vec3 centre(0.2f, 0.1f, 1.5f);
+  light_ = make_light(BOUNCE_LIGHT_AREA_RECT, centre, glm::vec3(radiance));
+  light_.half_size[0] = 0.6f;
+  light_.half_size[1] = 0.3f;
+  expect_matches([&](glm::vec3 p) { return rectangle_irradiance(p, centre, {0.6f, 0.3f}, radiance); });
+}
+
+TEST_F(AnalyticLights, AreaDisk) {
+  // On the axis of a disk of radius r at height h: E = pi L r^2 / (h^2 + r^2); off axis by numerical
+  // integration over the disk.
+  const float radiance = 10.0f, r = 0.5f, height = 1.0f;
+  light_ = make_light(BOUNCE_LIGHT_AREA_ELLIPSE, {0, 0, height}, glm::vec3(radiance));
+  light_.half_size[0] = light_.half_size[1] = r;
+  expect_matches(
+      [&](glm::vec3 p) {
+        const int n = 400;
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j) {
+            const float qx = -r + (i + 0.5f) * 2 * r / n, qy = -r + (j + 0.5f) * 2 * r / n;
+            if (qx * qx + qy * qy > r * r) continue;
+            const glm::vec3 d = glm::vec3(qx, qy, height) - p;
+            const double r2 = glm::dot(d, d);
+            sum += (d.z * d.z / r2) / r2 * (2.0 * r / n) * (2.0 * r / n);
+          }
+        return static_cast<float>(radiance * sum);
+      },
+      0.01f);
+}
+
+}  // namespace
+}  // namespace bounce::test

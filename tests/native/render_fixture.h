@@ -1,0 +1,133 @@
+// Builds small scenes through the C API and renders them on the default EGL platform (llvmpipe here).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "bounce/bounce.h"
+
+namespace bounce::test {
+
+constexpr float kPi = 3.14159265358979f;
+
+#define ASSERT_BOUNCE_OK(call) ASSERT_EQ((call), BOUNCE_OK) << bounce_last_error()
+
+struct Image {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> values;
+  const float* at(int x, int y) const { return values.data() + (std::size_t(y) * width + x) * channels; }
+};
+
+inline BounceLight make_light(int type, glm::vec3 position, glm::vec3 intensity) {
+  BounceLight light{};
+  light.type = type;
+  light.cast_shadow = 1;
+  std::memcpy(light.position, &position[0], 12);
+  const float x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, z[3] = {0, 0, 1};
+  std::memcpy(light.axis_x, x, 12);
+  std::memcpy(light.axis_y, y, 12);
+  std::memcpy(light.axis_z, z, 12);  // shining down (-z)
+  std::memcpy(light.intensity, &intensity[0], 12);
+  light.spot_half_angle = kPi / 4;
+  return light;
+}
+
+class RenderFixture : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_BOUNCE_OK(bounce_engine_create(nullptr, &engine_));
+    bounce_settings_defaults(&settings_);
+    settings_.samples = 1;
+    settings_.filter_width = 0.0f;
+  }
+  void TearDown() override { bounce_engine_destroy(engine_); }
+
+  // A square of side `size` in the z = 0 plane, centred at the origin, facing +z.
+  void add_mesh(uint64_t key, const std::vector<float>& positions, const std::vector<uint32_t>& triangles) {
+    BounceMeshDesc mesh{};
+    mesh.vertex_count = static_cast<uint32_t>(positions.size() / 3);
+    mesh.positions = positions.data();
+    mesh.triangle_count = static_cast<uint32_t>(triangles.size() / 3);
+    mesh.triangles = triangles.data();
+    ASSERT_BOUNCE_OK(bounce_mesh_set(engine_, key, &mesh));
+  }
+  void add_plane(uint64_t key, float size) {
+    const float h = size / 2;
+    add_mesh(key, {-h, -h, 0, h, -h, 0, h, h, 0, -h, h, 0}, {0, 1, 2, 0, 2, 3});
+  }
+  // One instance per (key, transform), all with material 0.
+  void set_instances(const std::vector<uint64_t>& keys, const std::vector<glm::mat4>& transforms) {
+    std::vector<float> matrices;
+    for (const glm::mat4& m : transforms) matrices.insert(matrices.end(), glm::value_ptr(m), glm::value_ptr(m) + 16);
+    std::vector<uint32_t> offsets(keys.size(), 0), counts(keys.size(), 1), slots = {0};
+    BounceInstancesDesc desc{static_cast<uint32_t>(keys.size()), keys.data(), matrices.data(), offsets.data(),
+                             counts.data(), 1, slots.data()};
+    ASSERT_BOUNCE_OK(bounce_instances_set(engine_, &desc));
+  }
+  void set_albedo(float albedo) {
+    BounceMaterial material{};
+    material.base_color[0] = material.base_color[1] = material.base_color[2] = albedo;
+    material.alpha = 1.0f;
+    material.alpha_threshold = 0.5f;
+    ASSERT_BOUNCE_OK(bounce_materials_set(engine_, 1, &material));
+  }
+  void set_lights(const std::vector<BounceLight>& lights) {
+    ASSERT_BOUNCE_OK(bounce_lights_set(engine_, static_cast<uint32_t>(lights.size()), lights.data()));
+  }
+  // Orthographic camera above the origin looking down -z, covering [-half, half]^2.
+  void look_down(float half, int size) {
+    const glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 50), glm::vec3(0), glm::vec3(0, 1, 0));
+    const glm::mat4 projection = glm::ortho(-half, half, -half, half, 1.0f, 200.0f);
+    set_camera(view, projection, size, size);
+  }
+  void set_camera(const glm::mat4& view, const glm::mat4& projection, int width, int height) {
+    camera_ = BounceCamera{};
+    std::memcpy(camera_.world_to_view, glm::value_ptr(view), 64);
+    std::memcpy(camera_.projection, glm::value_ptr(projection), 64);
+    camera_.width = width;
+    camera_.height = height;
+  }
+  // Renders and returns one AOV; fails the test on any render error.
+  Image render(int aov = BOUNCE_AOV_COMBINED) {
+    EXPECT_EQ(bounce_render_start(engine_, &settings_, &camera_), BOUNCE_OK) << bounce_last_error();
+    EXPECT_EQ(bounce_render_wait(engine_, -1), BOUNCE_OK) << bounce_last_error();
+    return read(aov);
+  }
+  Image read(int aov) {
+    BounceFrameInfo info{};
+    EXPECT_EQ(bounce_frame_info(engine_, &info), BOUNCE_OK) << bounce_last_error();
+    Image image;
+    image.width = info.width;
+    image.height = info.height;
+    image.channels = bounce_aov_channels(aov);
+    image.values.resize(std::size_t(info.width) * info.height * image.channels);
+    EXPECT_EQ(bounce_frame_read(engine_, aov, image.values.data(), image.values.size()), BOUNCE_OK)
+        << bounce_last_error();
+    return image;
+  }
+
+  BounceEngine* engine_ = nullptr;
+  BounceSettings settings_{};
+  BounceCamera camera_{};
+};
+
+// World position of a pixel centre for look_down(half, size) on the z = 0 plane.
+inline glm::vec3 pixel_world(int x, int y, float half, int size) {
+  return {-half + (x + 0.5f) * 2 * half / size, -half + (y + 0.5f) * 2 * half / size, 0.0f};
+}
+
+inline bool all_finite(const Image& image) {
+  for (float v : image.values)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+}  // namespace bounce::test

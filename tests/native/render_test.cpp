@@ -1,0 +1,267 @@
+// End-to-end renders through the C API on llvmpipe: determinism, tiling, crops, textures and cut-outs,
+// emission, hard inputs, progressive frames, cancellation and several engines at once.
+#include <thread>
+
+#include "render_fixture.h"
+
+namespace bounce::test {
+namespace {
+
+class Render : public RenderFixture {
+ protected:
+  // A floor, a floating occluder and a sun: a scene with shadows, for comparing renders.
+  void build_shadow_scene() {
+    add_plane(1, 20.0f);
+    add_plane(2, 2.0f);
+    set_instances({1, 2}, {glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 0, 1))});
+    set_albedo(0.5f);
+    BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(3.0f));
+    sun.sun_angle = 0.2f;
+    set_lights({sun});
+    const glm::mat4 view = glm::lookAt(glm::vec3(0, -6, 4), glm::vec3(0), glm::vec3(0, 0, 1));
+    set_camera(view, glm::perspective(0.8f, 1.5f, 0.1f, 100.0f), 96, 64);
+  }
+};
+
+TEST_F(Render, SameSeedSameImageOtherSeedOtherImage) {
+  build_shadow_scene();
+  settings_.samples = 4;
+  settings_.filter_width = 1.0f;
+  settings_.seed = 3;
+  const Image a = render();
+  const Image b = render();
+  EXPECT_EQ(a.values, b.values);
+  settings_.seed = 4;
+  const Image c = render();
+  EXPECT_NE(a.values, c.values);
+  camera_.frame = 2;  // the frame number feeds the seed too
+  settings_.seed = 3;
+  EXPECT_NE(a.values, render().values);
+}
+
+TEST_F(Render, TilesAndCropsMatchTheWholeImage) {
+  build_shadow_scene();
+  const Image whole = render();
+  settings_.tile_size = 64;  // 96 x 64 -> two tiles
+  const Image tiled = render();
+  ASSERT_EQ(tiled.values.size(), whole.values.size());
+  // Tiles differ from the whole image only by float rounding in the projection.
+  auto close = [](float a, float b) { return std::abs(a - b) <= 1e-3f * std::max(1.0f, std::abs(b)); };
+  for (std::size_t i = 0; i < whole.values.size(); ++i) ASSERT_TRUE(close(tiled.values[i], whole.values[i])) << i;
+  camera_.crop[0] = 10;
+  camera_.crop[1] = 20;
+  camera_.crop[2] = 50;
+  camera_.crop[3] = 60;
+  const Image crop = render();
+  ASSERT_EQ(crop.width, 40);
+  ASSERT_EQ(crop.height, 40);
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 40; ++x)
+      for (int c = 0; c < 4; ++c) ASSERT_TRUE(close(crop.at(x, y)[c], whole.at(x + 10, y + 20)[c]));
+}
+
+TEST_F(Render, ShadowOfAnOccluderIsDark) {
+  build_shadow_scene();
+  settings_.shadow_softness = 0.0f;
+  look_down(4, 64);
+  const Image image = render(BOUNCE_AOV_DIRECT);
+  // Under the occluder (seen from above we see the occluder itself, lit); beside it the floor is lit.
+  // Render the floor alone by moving the camera below the occluder's height is not possible from above, so
+  // compare the floor's shadow region through the Depth AOV: pixels on the floor (depth 50) next to the
+  // occluder along -sun direction are shadowed.
+  const Image depth = read(BOUNCE_AOV_DEPTH);
+  int shadowed = 0, lit = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      if (std::abs(depth.at(x, y)[0] - 50.0f) > 1e-3f) continue;  // not the floor
+      const float v = image.at(x, y)[0];
+      (v < 1e-4f ? shadowed : lit) += 1;
+    }
+  EXPECT_EQ(shadowed, 0) << "the sun is straight above, the occluder hides its own shadow";
+  EXPECT_GT(lit, 1000);
+}
+
+TEST_F(Render, EmissionAndBackground) {
+  add_plane(1, 2.0f);
+  set_instances({1}, {glm::mat4(1.0f)});
+  BounceMaterial emitter{};
+  emitter.alpha = 1.0f;
+  emitter.alpha_threshold = 0.5f;
+  emitter.emission[0] = 3.0f;
+  emitter.emission[1] = 2.0f;
+  emitter.emission[2] = 1.0f;
+  ASSERT_BOUNCE_OK(bounce_materials_set(engine_, 1, &emitter));
+  const BounceWorld world{{0.1f, 0.2f, 0.3f}, 0};
+  ASSERT_BOUNCE_OK(bounce_world_set(engine_, &world));
+  look_down(2, 16);
+  const Image image = render();
+  EXPECT_FLOAT_EQ(image.at(8, 8)[0], 3.0f);
+  EXPECT_FLOAT_EQ(image.at(8, 8)[2], 1.0f);
+  EXPECT_FLOAT_EQ(image.at(0, 0)[1], 0.2f);
+  EXPECT_FLOAT_EQ(image.at(0, 0)[3], 1.0f);
+  const BounceWorld transparent{{0.1f, 0.2f, 0.3f}, 1};
+  ASSERT_BOUNCE_OK(bounce_world_set(engine_, &transparent));
+  EXPECT_FLOAT_EQ(render().at(0, 0)[3], 0.0f);
+}
+
+TEST_F(Render, TextureAndAlphaCutOutInGBufferAndShadows) {
+  // An 8x1 texture: the left half red and opaque, the right half transparent. The cut-out half of an occluder
+  // must show and light the floor below.
+  std::vector<unsigned char> texels;
+  for (int i = 0; i < 8; ++i) texels.insert(texels.end(), {255, 0, 0, static_cast<unsigned char>(i < 4 ? 255 : 0)});
+  ASSERT_BOUNCE_OK(bounce_texture_set(engine_, 5, 8, 1, BOUNCE_TEXTURE_RGBA8_SRGB, texels.data()));
+  const std::vector<float> positions = {-1, -1, 1, 1, -1, 1, 1, 1, 1, -1, 1, 1};
+  const std::vector<uint32_t> triangles = {0, 1, 2, 0, 2, 3};
+  const std::vector<float> uvs = {0, 0, 1, 0, 1, 1, 0, 0, 1, 1, 0, 1};
+  BounceMeshDesc mesh{4, positions.data(), 2, triangles.data(), nullptr, uvs.data(), nullptr};
+  ASSERT_BOUNCE_OK(bounce_mesh_set(engine_, 2, &mesh));
+  add_plane(1, 20.0f);
+  const std::vector<uint64_t> keys = {1, 2};
+  const glm::mat4 identity(1.0f);
+  std::vector<float> matrices;
+  for (int i = 0; i < 2; ++i) matrices.insert(matrices.end(), glm::value_ptr(identity), glm::value_ptr(identity) + 16);
+  const std::vector<uint32_t> offsets = {0, 1}, counts = {1, 1}, slots = {0, 1};
+  const BounceInstancesDesc instances{2, keys.data(), matrices.data(), offsets.data(), counts.data(), 2, slots.data()};
+  ASSERT_BOUNCE_OK(bounce_instances_set(engine_, &instances));
+  BounceMaterial floor{}, leaf{};
+  floor.base_color[0] = floor.base_color[1] = floor.base_color[2] = 0.5f;
+  floor.alpha = leaf.alpha = 1.0f;
+  floor.alpha_threshold = leaf.alpha_threshold = 0.5f;
+  leaf.base_color[0] = leaf.base_color[1] = leaf.base_color[2] = 1.0f;
+  leaf.base_color_texture = 5;
+  leaf.alpha_from_texture = 1;
+  const BounceMaterial materials[2] = {floor, leaf};
+  ASSERT_BOUNCE_OK(bounce_materials_set(engine_, 2, materials));
+  set_lights({make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(1.0f))});
+  // From above: pixel 11 sees the opaque red half (u ~ 0.22), pixel 20 the floor through the hole (u ~ 0.78).
+  look_down(2, 32);
+  const Image albedo = render(BOUNCE_AOV_ALBEDO);
+  const Image direct = read(BOUNCE_AOV_DIRECT);
+  EXPECT_NEAR(albedo.at(11, 16)[0], 1.0f, 1e-3f);
+  EXPECT_NEAR(albedo.at(11, 16)[1], 0.0f, 1e-3f);
+  EXPECT_NEAR(albedo.at(20, 16)[0], 0.5f, 1e-3f);
+  EXPECT_NEAR(direct.at(20, 16)[0], 0.5f / kPi, 1e-3f) << "the hole must not cast a shadow";
+  // From below the floor (the floor is two-sided but cut away by the crop), the shadow of the opaque half.
+  set_lights({make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(1.0f))});
+  const Image floor_only = render(BOUNCE_AOV_DIRECT);
+  EXPECT_NEAR(floor_only.at(20, 16)[0], 0.5f / kPi, 1e-3f);
+}
+
+TEST_F(Render, HardInputsGiveFiniteImagesAndCountedDrops) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  add_plane(1, 10.0f);
+  add_mesh(2, {0, 0, 1, nan, 0, 1, 0, 1, 1, 1, 1, 1, 2, 2, 1, 3, 3, 1}, {0, 1, 2, 0, 3, 4, 3, 4, 5, 0, 2, 3});
+  add_mesh(3, {0, 0, 0, 1, 0, 0}, {});  // no faces
+  set_instances({1, 2, 3}, {glm::mat4(1.0f), glm::mat4(1.0f), glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  BounceLight zero = make_light(BOUNCE_LIGHT_POINT, {0, 0, 2}, glm::vec3(0.0f));
+  BounceLight huge = make_light(BOUNCE_LIGHT_POINT, {0, 0, 2}, glm::vec3(1e9f / (4 * kPi)));
+  set_lights({zero, huge});
+  look_down(5, 32);
+  const Image image = render();
+  EXPECT_TRUE(all_finite(image));
+  BounceSceneStats stats{};
+  ASSERT_BOUNCE_OK(bounce_scene_stats(engine_, &stats));
+  EXPECT_EQ(stats.dropped_triangles, 3u);  // the NaN triangle and two collinear ones
+  EXPECT_EQ(stats.skipped_lights, 1u);
+  EXPECT_EQ(stats.light_count, 1u);
+  BounceFrameInfo info{};
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+  EXPECT_EQ(info.nonfinite_pixels, 0u);
+  EXPECT_GT(image.at(16, 16)[0], 1e5f);
+}
+
+TEST_F(Render, EmptySceneRendersTheBackground) {
+  const BounceWorld world{{0.25f, 0.25f, 0.25f}, 0};
+  ASSERT_BOUNCE_OK(bounce_world_set(engine_, &world));
+  set_lights({make_light(BOUNCE_LIGHT_POINT, {0, 0, 2}, glm::vec3(10.0f))});
+  look_down(1, 8);
+  const Image image = render();
+  EXPECT_FLOAT_EQ(image.at(3, 3)[0], 0.25f);
+  EXPECT_FLOAT_EQ(read(BOUNCE_AOV_DEPTH).at(3, 3)[0], 1e10f);
+}
+
+TEST_F(Render, CameraInsideAClosedBox) {
+  // Six faces around the camera, a light inside: every pixel sees a lit wall, nothing is NaN.
+  const std::vector<float> p = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1, 1, -1, 1, 1, 1, 1, -1, 1, 1};
+  add_mesh(1, p, {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1, 1, 5, 6, 1, 6, 2, 2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0});
+  set_instances({1}, {glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  set_lights({make_light(BOUNCE_LIGHT_POINT, {0.2f, 0.1f, 0.3f}, glm::vec3(10.0f))});
+  set_camera(glm::lookAt(glm::vec3(0), glm::vec3(1, 0.2f, 0.1f), glm::vec3(0, 0, 1)),
+             glm::perspective(1.2f, 1.0f, 0.01f, 10.0f), 32, 32);
+  const Image image = render();
+  EXPECT_TRUE(all_finite(image));
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) ASSERT_GT(image.at(x, y)[0], 0.0f) << x << "," << y;
+}
+
+TEST_F(Render, OnePixelAndInvalidCameras) {
+  build_shadow_scene();
+  camera_.width = camera_.height = 1;
+  const Image image = render();
+  EXPECT_EQ(image.values.size(), 4u);
+  EXPECT_TRUE(all_finite(image));
+  camera_.width = 0;
+  EXPECT_EQ(bounce_render_start(engine_, &settings_, &camera_), BOUNCE_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(bounce_last_error()).find("image size 0x1"), std::string::npos);
+  camera_.width = 8;
+  camera_.crop[2] = 9;
+  camera_.crop[3] = 1;
+  EXPECT_EQ(bounce_render_start(engine_, &settings_, &camera_), BOUNCE_ERROR_INVALID_ARGUMENT);
+  settings_.samples = 0;
+  EXPECT_EQ(bounce_render_start(engine_, &settings_, &camera_), BOUNCE_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(bounce_last_error()).find("'samples'"), std::string::npos);
+}
+
+TEST_F(Render, ProgressiveFramesAreAveragesOfTheSamples) {
+  build_shadow_scene();
+  settings_.samples = 8;
+  settings_.filter_width = 1.5f;
+  const Image final_image = render();
+  BounceFrameInfo info{};
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+  EXPECT_EQ(info.samples, 8);
+  EXPECT_EQ(info.stage_count, 5);
+  EXPECT_STREQ(info.stages[0].name, "G-buffer");
+  EXPECT_GT(info.stages[0].gpu_ms, 0.0);
+  BounceRenderProgress progress{};
+  ASSERT_BOUNCE_OK(bounce_render_progress(engine_, &progress));
+  EXPECT_EQ(progress.state, BOUNCE_RENDER_DONE);
+  EXPECT_EQ(progress.samples_done, 8);
+  EXPECT_GE(progress.frame_serial, 2u) << "a progressive frame after the first sample, then the final one";
+  EXPECT_TRUE(all_finite(final_image));
+}
+
+TEST_F(Render, CancelStopsARender) {
+  build_shadow_scene();
+  settings_.samples = 5000;
+  ASSERT_BOUNCE_OK(bounce_render_start(engine_, &settings_, &camera_));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_BOUNCE_OK(bounce_render_cancel(engine_));
+  EXPECT_EQ(bounce_render_wait(engine_, 10000), BOUNCE_ERROR_CANCELLED);
+  settings_.samples = 1;
+  EXPECT_TRUE(all_finite(render()));  // the engine is usable afterwards
+}
+
+TEST_F(Render, TwoEnginesAtOnce) {
+  build_shadow_scene();
+  const Image alone = render();
+  BounceEngine* second = nullptr;
+  ASSERT_BOUNCE_OK(bounce_engine_create(nullptr, &second));
+  std::swap(engine_, second);
+  build_shadow_scene();
+  settings_.samples = 3;
+  ASSERT_BOUNCE_OK(bounce_render_start(engine_, &settings_, &camera_));
+  std::swap(engine_, second);
+  settings_.samples = 1;
+  const Image concurrent = render();
+  std::swap(engine_, second);
+  EXPECT_EQ(bounce_render_wait(engine_, -1), BOUNCE_OK) << bounce_last_error();
+  std::swap(engine_, second);
+  bounce_engine_destroy(second);
+  EXPECT_EQ(alone.values, concurrent.values);
+}
+
+}  // namespace
+}  // namespace bounce::test

@@ -1,0 +1,84 @@
+// Sample sequences: centred first samples, uniformity, and light sample points inside the light.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "passes/shadows/shadow_pass.h"
+#include "renderer.h"
+#include "sampling.h"
+
+namespace bounce {
+namespace {
+
+TEST(Sampling, R2StartsAtTheCentreAndStaysInTheUnitSquare) {
+  EXPECT_EQ(r2_point(0, glm::vec2(0.0f)), glm::vec2(0.5f));
+  for (uint32_t i = 0; i < 1000; ++i) {
+    const glm::vec2 p = r2_point(i, glm::vec2(0.3f, 0.9f));
+    EXPECT_GE(p.x, 0.0f);
+    EXPECT_LT(p.x, 1.0f);
+    EXPECT_GE(p.y, 0.0f);
+    EXPECT_LT(p.y, 1.0f);
+  }
+}
+
+TEST(Sampling, ConcentricDiskIsUniform) {
+  // Equal-area rings and sectors must receive equal counts (chi-square, 16 cells, 15 dof: 99.9 % at 37.7).
+  const int n = 64000, rings = 4, sectors = 4;
+  std::vector<int> counts(rings * sectors, 0);
+  for (int i = 0; i < n; ++i) {
+    const glm::vec2 d = concentric_disk(r2_point(static_cast<uint32_t>(i), glm::vec2(0.1f, 0.2f)));
+    const float r2 = glm::dot(d, d);
+    ASSERT_LE(r2, 1.0f + 1e-5f);
+    const int ring = std::min(rings - 1, static_cast<int>(r2 * rings));
+    const float angle = std::atan2(d.y, d.x) + 3.14159265f;
+    const int sector = std::min(sectors - 1, static_cast<int>(angle / (2 * 3.14159265f) * sectors));
+    ++counts[ring * sectors + sector];
+  }
+  const double expected = static_cast<double>(n) / counts.size();
+  double chi2 = 0.0;
+  for (int c : counts) chi2 += (c - expected) * (c - expected) / expected;
+  EXPECT_LT(chi2, 37.7);
+  EXPECT_EQ(concentric_disk(glm::vec2(0.5f)), glm::vec2(0.0f));
+}
+
+TEST(Sampling, LightSamplePointsLieOnTheLight) {
+  BounceLight rect{};
+  rect.type = BOUNCE_LIGHT_AREA_RECT;
+  rect.position[2] = 2.0f;
+  rect.axis_x[0] = rect.axis_y[1] = rect.axis_z[2] = 1.0f;
+  rect.half_size[0] = 0.5f;
+  rect.half_size[1] = 0.25f;
+  EXPECT_EQ(light_shadow_origin(rect, 0, 7, 0, 1.0f), glm::vec3(0, 0, 2));
+  for (uint32_t s = 1; s < 200; ++s) {
+    const glm::vec3 p = light_shadow_origin(rect, s, 7, 0, 1.0f);
+    EXPECT_LE(std::abs(p.x), 0.5f + 1e-6f);
+    EXPECT_LE(std::abs(p.y), 0.25f + 1e-6f);
+    EXPECT_FLOAT_EQ(p.z, 2.0f);
+    EXPECT_EQ(light_shadow_origin(rect, s, 7, 0, 0.0f), glm::vec3(0, 0, 2));  // softness 0: hard shadows
+  }
+  BounceLight sun = rect;
+  sun.type = BOUNCE_LIGHT_SUN;
+  sun.sun_angle = 0.1f;
+  for (uint32_t s = 1; s < 200; ++s) {
+    const glm::vec3 d = light_shadow_origin(sun, s, 7, 0, 1.0f);
+    EXPECT_NEAR(glm::length(d), 1.0f, 1e-5f);
+    EXPECT_GE(d.z, std::cos(0.05f) - 1e-6f);
+  }
+}
+
+TEST(TileMatrix, MapsTheTileOntoTheWholeClipSquare) {
+  // Tile (64..128) x (0..32) of a 256 x 128 image: its corners must land on clip -1 and +1.
+  const glm::mat4 m = tile_matrix(256, 128, 64, 0, 64, 32, glm::vec2(0.0f));
+  const glm::vec4 lower = m * glm::vec4(2.0f * 64 / 256 - 1, 2.0f * 0 / 128 - 1, 0, 1);
+  const glm::vec4 upper = m * glm::vec4(2.0f * 128 / 256 - 1, 2.0f * 32 / 128 - 1, 0, 1);
+  EXPECT_NEAR(lower.x, -1.0f, 1e-6f);
+  EXPECT_NEAR(lower.y, -1.0f, 1e-6f);
+  EXPECT_NEAR(upper.x, 1.0f, 1e-6f);
+  EXPECT_NEAR(upper.y, 1.0f, 1e-6f);
+  // A jitter of one pixel moves the image by 2 / width in clip space.
+  const glm::mat4 j = tile_matrix(256, 128, 0, 0, 256, 128, glm::vec2(1.0f, 0.0f));
+  EXPECT_NEAR((j * glm::vec4(0, 0, 0, 1)).x, 2.0f / 256, 1e-7f);
+}
+
+}  // namespace
+}  // namespace bounce

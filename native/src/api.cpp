@@ -132,13 +132,17 @@ BounceStatus bounce_scene_stats(BounceEngine* engine, BounceSceneStats* out) {
 
 int32_t bounce_aov_channels(int32_t aov) {
   switch (aov) {
-    case BOUNCE_AOV_COMBINED: return 4;
+    case BOUNCE_AOV_COMBINED:
+      return 4;
     case BOUNCE_AOV_DIRECT:
     case BOUNCE_AOV_EMISSION:
     case BOUNCE_AOV_ALBEDO:
-    case BOUNCE_AOV_NORMAL: return 3;
-    case BOUNCE_AOV_DEPTH: return 1;
-    default: return 0;
+    case BOUNCE_AOV_NORMAL:
+      return 3;
+    case BOUNCE_AOV_DEPTH:
+      return 1;
+    default:
+      return 0;
   }
 }
 

@@ -21,16 +21,15 @@ void validate_camera(const BounceCamera& camera) {
   for (float v : camera.projection) require(std::isfinite(v), "camera: projection matrix is not finite");
   const int32_t* c = camera.crop;
   const bool whole = c[0] == 0 && c[1] == 0 && c[2] == 0 && c[3] == 0;
-  require(whole || (c[0] >= 0 && c[1] >= 0 && c[2] <= camera.width && c[3] <= camera.height && c[0] < c[2] &&
-                    c[1] < c[3]),
-          "camera: crop (" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " + std::to_string(c[2]) +
-              ", " + std::to_string(c[3]) + ") is empty or outside the image");
+  require(
+      whole || (c[0] >= 0 && c[1] >= 0 && c[2] <= camera.width && c[3] <= camera.height && c[0] < c[2] && c[1] < c[3]),
+      "camera: crop (" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " + std::to_string(c[2]) + ", " +
+          std::to_string(c[3]) + ") is empty or outside the image");
 }
 
 }  // namespace
 
-Engine::Engine(const BounceEngineDesc& desc)
-    : thread_(desc.egl_platform ? desc.egl_platform : "", desc.debug_gl != 0) {
+Engine::Engine(const BounceEngineDesc& desc) : thread_(desc.egl_platform ? desc.egl_platform : "", desc.debug_gl != 0) {
   thread_.run([this] { renderer_ = std::make_unique<Renderer>(); });
   thread_.set_exit_task([this] { renderer_.reset(); });
 }

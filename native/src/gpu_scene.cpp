@@ -23,9 +23,12 @@ struct GpuInstance {
 
 GLenum internal_format(int32_t format) {
   switch (format) {
-    case BOUNCE_TEXTURE_RGBA8_SRGB: return GL_SRGB8_ALPHA8;
-    case BOUNCE_TEXTURE_RGBA8_LINEAR: return GL_RGBA8;
-    default: return GL_RGBA32F;
+    case BOUNCE_TEXTURE_RGBA8_SRGB:
+      return GL_SRGB8_ALPHA8;
+    case BOUNCE_TEXTURE_RGBA8_LINEAR:
+      return GL_RGBA8;
+    default:
+      return GL_RGBA32F;
   }
 }
 
@@ -62,9 +65,7 @@ void GpuScene::set_mesh(uint64_t key, std::shared_ptr<const MeshData> mesh) {
   dirty_ = true;
 }
 
-void GpuScene::remove_mesh(uint64_t key) {
-  dirty_ |= meshes_.erase(key) > 0;
-}
+void GpuScene::remove_mesh(uint64_t key) { dirty_ |= meshes_.erase(key) > 0; }
 
 void GpuScene::set_texture(uint64_t key, const TextureData& data) {
   GpuTexture gpu;

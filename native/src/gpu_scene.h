@@ -37,7 +37,10 @@ class GpuScene {
   void remove_texture(uint64_t key);
   void set_materials(std::vector<BounceMaterial> materials);
   void set_instances(std::shared_ptr<const InstanceList> instances);
-  void set_lights(LightList lights) { lights_ = std::move(lights); ++light_version_; }
+  void set_lights(LightList lights) {
+    lights_ = std::move(lights);
+    ++light_version_;
+  }
   void set_world(const BounceWorld& world) { world_ = world; }
 
   // Rebuilds batches and tables if anything changed since the last call.

@@ -81,20 +81,20 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
       if (callbacks.cancelled()) return false;
       const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
       const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
-      const RenderContext context{scene_,
-                                  settings,
-                                  timer_,
-                                  tile.width,
-                                  tile.height,
-                                  tile_matrix(camera.width, camera.height, tile.x, tile.y, tile.width, tile.height,
-                                              jitter) *
-                                      projection * world_to_view,
-                                  world_to_view,
-                                  glm::vec3(view_to_world[3]),
-                                  -glm::normalize(glm::vec3(view_to_world[2])),
-                                  projection[2][3] == 0.0f,
-                                  static_cast<uint32_t>(s),
-                                  seed};
+      const RenderContext context{
+          scene_,
+          settings,
+          timer_,
+          tile.width,
+          tile.height,
+          tile_matrix(camera.width, camera.height, tile.x, tile.y, tile.width, tile.height, jitter) * projection *
+              world_to_view,
+          world_to_view,
+          glm::vec3(view_to_world[3]),
+          -glm::normalize(glm::vec3(view_to_world[2])),
+          projection[2][3] == 0.0f,
+          static_cast<uint32_t>(s),
+          seed};
       gbuffer_.execute(context);
       direct_.execute(context, gbuffer_.gbuffer(), shadows_);
       compose_.accumulate(context, gbuffer_.gbuffer(), direct_.output());

@@ -13,10 +13,17 @@ std::string json_escape(const char* text) {
   std::string out;
   for (const char* c = text; *c; ++c) {
     switch (*c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      default: out += *c;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      default:
+        out += *c;
     }
   }
   return out;
@@ -64,10 +71,10 @@ BounceSettings default_settings() {
 
 void validate_settings(const BounceSettings& s) {
 #define BOUNCE_SETTING(ctype, glsl_type, kind, name, label, def, min, max, smin, smax, flags, group, items, desc) \
-  if (!(std::isfinite(static_cast<double>(s.name)) && s.name >= static_cast<ctype>(min) &&                    \
-        s.name <= static_cast<ctype>(max)))                                                                   \
-    fail(BOUNCE_ERROR_INVALID_ARGUMENT, "setting '" #name "' = " + json_number(s.name) + " is outside [" +     \
-                                            json_number(static_cast<ctype>(min)) + ", " +                     \
+  if (!(std::isfinite(static_cast<double>(s.name)) && s.name >= static_cast<ctype>(min) &&                        \
+        s.name <= static_cast<ctype>(max)))                                                                       \
+    fail(BOUNCE_ERROR_INVALID_ARGUMENT, "setting '" #name "' = " + json_number(s.name) + " is outside [" +        \
+                                            json_number(static_cast<ctype>(min)) + ", " +                         \
                                             json_number(static_cast<ctype>(max)) + "]");
 #include "bounce/settings.def"
 #undef BOUNCE_SETTING
@@ -77,16 +84,16 @@ const std::string& settings_table_json() {
   static const std::string json = [] {
     std::string out = "[";
     bool first = true;
-#define BOUNCE_SETTING(ctype, glsl_type, kind, name, label, def, min, max, smin, smax, flags, group, items, desc) \
-  out += first ? "\n" : ",\n";                                                                                 \
-  first = false;                                                                                               \
-  out += "{\"name\":\"" #name "\",\"type\":\"" #ctype "\",\"kind\":\"" #kind "\",\"label\":\"" +              \
-         json_escape(label) + "\",\"default\":" + json_number(static_cast<ctype>(def)) +                       \
-         ",\"min\":" + json_number(static_cast<ctype>(min)) + ",\"max\":" + json_number(static_cast<ctype>(max)) + \
-         ",\"soft_min\":" + json_number(static_cast<ctype>(smin)) +                                            \
-         ",\"soft_max\":" + json_number(static_cast<ctype>(smax)) + ",\"flags\":" + json_number(flags) +       \
-         ",\"group\":\"" + json_escape(group) + "\",\"items\":" + json_enum_items(items) +                     \
-         ",\"description\":\"" + json_escape(desc) + "\"}";
+#define BOUNCE_SETTING(ctype, glsl_type, kind, name, label, def, min, max, smin, smax, flags, group, items, desc)     \
+  out += first ? "\n" : ",\n";                                                                                        \
+  first = false;                                                                                                      \
+  out += "{\"name\":\"" #name "\",\"type\":\"" #ctype "\",\"kind\":\"" #kind "\",\"label\":\"" + json_escape(label) + \
+         "\",\"default\":" + json_number(static_cast<ctype>(def)) +                                                   \
+         ",\"min\":" + json_number(static_cast<ctype>(min)) + ",\"max\":" + json_number(static_cast<ctype>(max)) +    \
+         ",\"soft_min\":" + json_number(static_cast<ctype>(smin)) +                                                   \
+         ",\"soft_max\":" + json_number(static_cast<ctype>(smax)) + ",\"flags\":" + json_number(flags) +              \
+         ",\"group\":\"" + json_escape(group) + "\",\"items\":" + json_enum_items(items) + ",\"description\":\"" +    \
+         json_escape(desc) + "\"}";
 #include "bounce/settings.def"
 #undef BOUNCE_SETTING
     return out + "\n]";

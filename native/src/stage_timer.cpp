@@ -6,12 +6,18 @@ namespace bounce {
 
 const char* stage_name(Stage stage) {
   switch (stage) {
-    case Stage::GBuffer: return "G-buffer";
-    case Stage::Shadows: return "Shadows";
-    case Stage::Direct: return "Direct";
-    case Stage::Compose: return "Compose";
-    case Stage::Readback: return "Readback";
-    default: return "?";
+    case Stage::GBuffer:
+      return "G-buffer";
+    case Stage::Shadows:
+      return "Shadows";
+    case Stage::Direct:
+      return "Direct";
+    case Stage::Compose:
+      return "Compose";
+    case Stage::Readback:
+      return "Readback";
+    default:
+      return "?";
   }
 }
 

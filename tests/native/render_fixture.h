@@ -68,8 +68,13 @@ class RenderFixture : public ::testing::Test {
     std::vector<float> matrices;
     for (const glm::mat4& m : transforms) matrices.insert(matrices.end(), glm::value_ptr(m), glm::value_ptr(m) + 16);
     std::vector<uint32_t> offsets(keys.size(), 0), counts(keys.size(), 1), slots = {0};
-    BounceInstancesDesc desc{static_cast<uint32_t>(keys.size()), keys.data(), matrices.data(), offsets.data(),
-                             counts.data(), 1, slots.data()};
+    BounceInstancesDesc desc{static_cast<uint32_t>(keys.size()),
+                             keys.data(),
+                             matrices.data(),
+                             offsets.data(),
+                             counts.data(),
+                             1,
+                             slots.data()};
     ASSERT_BOUNCE_OK(bounce_instances_set(engine_, &desc));
   }
   void set_albedo(float albedo) {

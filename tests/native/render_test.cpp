@@ -81,6 +81,54 @@ TEST_F(Render, ShadowOfAnOccluderIsDark) {
   EXPECT_GT(lit, 1000);
 }
 
+// An occluder square (side 1, at height 1.5, centred at x = 1) under a light at height 3 straight above the
+// origin casts its shadow on the floor over x in [1, 3] (the projection doubles distances). The floor there is
+// dark, beside it lit: this pins the shadow maps' orientation for each kind (cube faces included).
+TEST_F(Render, ShadowsFallWhereGeometryPutsThem) {
+  add_plane(1, 20.0f);
+  add_plane(2, 1.0f);
+  set_instances({1, 2}, {glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(1.0f, 0, 1.5f))});
+  set_albedo(0.5f);
+  settings_.shadow_softness = 0.0f;
+  const float half = 4.0f;
+  const int size = 64;
+  look_down(half, size);
+  auto pixel_of = [&](float x, float y) {
+    return glm::ivec2(static_cast<int>((x + half) / (2 * half) * size),
+                      static_cast<int>((y + half) / (2 * half) * size));
+  };
+  BounceLight point = make_light(BOUNCE_LIGHT_POINT, {0, 0, 3}, glm::vec3(100.0f));
+  BounceLight spot = make_light(BOUNCE_LIGHT_SPOT, {0, 0, 3}, glm::vec3(100.0f));
+  spot.spot_half_angle = 1.2f;
+  BounceLight area = make_light(BOUNCE_LIGHT_AREA_RECT, {0, 0, 3}, glm::vec3(100.0f / 4e-4f));
+  area.half_size[0] = area.half_size[1] = 0.01f;
+  for (const BounceLight& light : {point, spot, area}) {
+    set_lights({light});
+    const Image image = render(BOUNCE_AOV_DIRECT);
+    for (glm::vec2 shadowed : {glm::vec2(1.7f, 0.0f), glm::vec2(2.8f, 0.8f), glm::vec2(2.5f, -0.8f)}) {
+      const glm::ivec2 p = pixel_of(shadowed.x, shadowed.y);
+      EXPECT_LT(image.at(p.x, p.y)[0], 1e-4f) << "type " << light.type << " at " << shadowed.x << "," << shadowed.y;
+    }
+    for (glm::vec2 lit :
+         {glm::vec2(-1.5f, 0.0f), glm::vec2(2.0f, 1.3f), glm::vec2(0.0f, -2.0f), glm::vec2(3.4f, 0.0f)}) {
+      const glm::ivec2 p = pixel_of(lit.x, lit.y);
+      EXPECT_GT(image.at(p.x, p.y)[0], 0.01f) << "type " << light.type << " at " << lit.x << "," << lit.y;
+    }
+  }
+  // A sun from 45 degrees towards -x: the shadow is the occluder shifted by 1.5 along +x... i.e. x in [2, 3].
+  BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(1.0f));
+  const glm::vec3 towards = glm::normalize(glm::vec3(-1, 0, 1));
+  std::memcpy(sun.axis_z, &towards[0], 12);
+  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards));
+  std::memcpy(sun.axis_x, &x[0], 12);
+  set_lights({sun});
+  const Image image = render(BOUNCE_AOV_DIRECT);
+  const glm::ivec2 in_shadow = pixel_of(2.6f, 0.0f), beside = pixel_of(2.6f, 1.0f), before = pixel_of(1.7f, 0.0f);
+  EXPECT_LT(image.at(in_shadow.x, in_shadow.y)[0], 1e-4f);
+  EXPECT_GT(image.at(beside.x, beside.y)[0], 0.01f);
+  EXPECT_GT(image.at(before.x, before.y)[0], 0.01f) << "seen from above this is the occluder, lit";
+}
+
 TEST_F(Render, EmissionAndBackground) {
   add_plane(1, 2.0f);
   set_instances({1}, {glm::mat4(1.0f)});
@@ -184,7 +232,8 @@ TEST_F(Render, EmptySceneRendersTheBackground) {
 TEST_F(Render, CameraInsideAClosedBox) {
   // Six faces around the camera, a light inside: every pixel sees a lit wall, nothing is NaN.
   const std::vector<float> p = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1, 1, -1, 1, 1, 1, 1, -1, 1, 1};
-  add_mesh(1, p, {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1, 1, 5, 6, 1, 6, 2, 2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0});
+  add_mesh(1, p, {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1,
+                  1, 5, 6, 1, 6, 2, 2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0});
   set_instances({1}, {glm::mat4(1.0f)});
   set_albedo(0.8f);
   set_lights({make_light(BOUNCE_LIGHT_POINT, {0.2f, 0.1f, 0.3f}, glm::vec3(10.0f))});

@@ -22,9 +22,9 @@ BounceMeshDesc mesh_of(const std::vector<float>& positions, const std::vector<ui
 TEST(PrepareMesh, DropsNonFiniteZeroAreaAndCollinearTriangles) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
-  const std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0,   // good
-                                        nan, 0, 0, inf, 1, 0,        // non-finite
-                                        2, 0, 0, 3, 0, 0};           // collinear with vertex 1
+  const std::vector<float> positions = {0,   0, 0, 1,   0, 0, 0, 1, 0,  // good
+                                        nan, 0, 0, inf, 1, 0,           // non-finite
+                                        2,   0, 0, 3,   0, 0};          // collinear with vertex 1
   const std::vector<uint32_t> triangles = {0, 1, 2, 3, 1, 2, 0, 4, 2, 1, 5, 6, 0, 0, 2};
   const auto mesh = prepare_mesh(7, mesh_of(positions, triangles));
   EXPECT_EQ(mesh->vertices.size(), 3u);
@@ -57,7 +57,7 @@ TEST(PrepareMesh, GroupsTrianglesBySlotAndKeepsSplitNormals) {
   const std::vector<int32_t> slots = {2, 0, 2};
   std::vector<float> normals(27, 0.0f);
   for (int c = 0; c < 9; ++c) normals[3 * c + 0] = 2.0f;  // unnormalised +x
-  normals[0] = std::numeric_limits<float>::quiet_NaN();     // falls back to the face normal
+  normals[0] = std::numeric_limits<float>::quiet_NaN();   // falls back to the face normal
   BounceMeshDesc desc = mesh_of(positions, triangles);
   desc.triangle_slots = slots.data();
   desc.corner_normals = normals.data();
@@ -75,10 +75,10 @@ TEST(PrepareMesh, GroupsTrianglesBySlotAndKeepsSplitNormals) {
 TEST(PrepareInstances, DropsSingularAndNonFiniteTransforms) {
   const std::vector<uint64_t> keys = {1, 1, 1};
   std::vector<float> matrices(48, 0.0f);
-  for (int i = 0; i < 4; ++i) matrices[i * 5] = 1.0f;                     // identity
-  matrices[16 + 15] = 1.0f;                                              // zero scale
+  for (int i = 0; i < 4; ++i) matrices[i * 5] = 1.0f;  // identity
+  matrices[16 + 15] = 1.0f;                            // zero scale
   for (int i = 0; i < 4; ++i) matrices[32 + i * 5] = 1.0f;
-  matrices[32 + 12] = std::numeric_limits<float>::infinity();            // infinite translation
+  matrices[32 + 12] = std::numeric_limits<float>::infinity();  // infinite translation
   const std::vector<uint32_t> offsets = {0, 0, 0}, counts = {1, 1, 1}, slots = {0};
   const BounceInstancesDesc desc{3, keys.data(), matrices.data(), offsets.data(), counts.data(), 1, slots.data()};
   const auto list = prepare_instances(desc);

@@ -28,9 +28,9 @@ TEST(Settings, JsonAndGlslListEverySettingInStructOrder) {
   const std::string& glsl = settings_glsl_block();
   std::size_t json_at = 0, glsl_at = 0;
 #define BOUNCE_SETTING(ctype, glsl_type, kind, name, label, def, min, max, smin, smax, flags, group, items, desc) \
-  json_at = json.find("\"name\":\"" #name "\"", json_at);                                                     \
-  EXPECT_NE(json_at, std::string::npos) << #name;                                                             \
-  glsl_at = glsl.find(" " #name ";", glsl_at);                                                                \
+  json_at = json.find("\"name\":\"" #name "\"", json_at);                                                         \
+  EXPECT_NE(json_at, std::string::npos) << #name;                                                                 \
+  glsl_at = glsl.find(" " #name ";", glsl_at);                                                                    \
   EXPECT_NE(glsl_at, std::string::npos) << #name;
 #include "bounce/settings.def"
 #undef BOUNCE_SETTING

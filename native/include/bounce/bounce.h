@@ -41,16 +41,16 @@ typedef enum BounceStatus {
   BOUNCE_ERROR_CONTEXT = 2,          /* no OpenGL 4.5 context could be made (EGL, driver) */
   BOUNCE_ERROR_GL = 3,               /* an OpenGL failure: shader compile, framebuffer, out of GPU memory */
   BOUNCE_ERROR_OUT_OF_MEMORY = 4,
-  BOUNCE_ERROR_NOT_READY = 5,        /* no finished frame yet, or a render is running */
+  BOUNCE_ERROR_NOT_READY = 5, /* no finished frame yet, or a render is running */
   BOUNCE_ERROR_CANCELLED = 6,
   BOUNCE_ERROR_INTERNAL = 7
 } BounceStatus;
 
 /* ---- Library ----------------------------------------------------------------------------------------- */
 
-BOUNCE_API const char* bounce_version(void);   /* "MAJOR.MINOR.PATCH" */
-BOUNCE_API int32_t bounce_api_version(void);     /* BOUNCE_API_VERSION of the built library */
-BOUNCE_API const char* bounce_last_error(void);  /* "" when the last call on this thread succeeded */
+BOUNCE_API const char* bounce_version(void);    /* "MAJOR.MINOR.PATCH" */
+BOUNCE_API int32_t bounce_api_version(void);    /* BOUNCE_API_VERSION of the built library */
+BOUNCE_API const char* bounce_last_error(void); /* "" when the last call on this thread succeeded */
 
 /* ---- Settings (one table: settings.def) -------------------------------------------------------------- */
 
@@ -60,8 +60,7 @@ BOUNCE_API const char* bounce_last_error(void);  /* "" when the last call on thi
 #define BOUNCE_SETTING_ANGLE 8
 
 typedef struct BounceSettings {
-#define BOUNCE_SETTING(ctype, glsl_type, kind, name, label, def, min, max, smin, smax, flags, group, items, \
-                       desc)                                                                             \
+#define BOUNCE_SETTING(ctype, glsl_type, kind, name, label, def, min, max, smin, smax, flags, group, items, desc) \
   ctype name;
 #include "settings.def"
 #undef BOUNCE_SETTING
@@ -102,38 +101,38 @@ BOUNCE_API BounceStatus bounce_engine_gl_info(BounceEngine* engine, char* buffer
  * dropped and counted in BounceSceneStats, not fatal. */
 typedef struct BounceMeshDesc {
   uint32_t vertex_count;
-  const float* positions;          /* 3 * vertex_count */
+  const float* positions; /* 3 * vertex_count */
   uint32_t triangle_count;
-  const uint32_t* triangles;       /* 3 * triangle_count vertex indices */
-  const float* corner_normals;     /* 9 * triangle_count (split normals), or NULL for flat normals */
-  const float* corner_uvs;         /* 6 * triangle_count, or NULL */
-  const int32_t* triangle_slots;   /* triangle_count material slot indices, or NULL for slot 0 */
+  const uint32_t* triangles;     /* 3 * triangle_count vertex indices */
+  const float* corner_normals;   /* 9 * triangle_count (split normals), or NULL for flat normals */
+  const float* corner_uvs;       /* 6 * triangle_count, or NULL */
+  const int32_t* triangle_slots; /* triangle_count material slot indices, or NULL for slot 0 */
 } BounceMeshDesc;
 
 BOUNCE_API BounceStatus bounce_mesh_set(BounceEngine* engine, uint64_t mesh_key, const BounceMeshDesc* mesh);
 BOUNCE_API BounceStatus bounce_mesh_remove(BounceEngine* engine, uint64_t mesh_key);
 
 typedef enum BounceTextureFormat {
-  BOUNCE_TEXTURE_RGBA8_SRGB = 0,   /* 8-bit, sRGB-encoded colour, linear alpha */
+  BOUNCE_TEXTURE_RGBA8_SRGB = 0, /* 8-bit, sRGB-encoded colour, linear alpha */
   BOUNCE_TEXTURE_RGBA8_LINEAR = 1,
-  BOUNCE_TEXTURE_RGBA32F = 2       /* linear float */
+  BOUNCE_TEXTURE_RGBA32F = 2 /* linear float */
 } BounceTextureFormat;
 
 /* Pixels bottom row first (Blender's order), 4 channels. */
-BOUNCE_API BounceStatus bounce_texture_set(BounceEngine* engine, uint64_t texture_key, int32_t width,
-                                           int32_t height, int32_t format, const void* pixels);
+BOUNCE_API BounceStatus bounce_texture_set(BounceEngine* engine, uint64_t texture_key, int32_t width, int32_t height,
+                                           int32_t format, const void* pixels);
 BOUNCE_API BounceStatus bounce_texture_remove(BounceEngine* engine, uint64_t texture_key);
 
 #define BOUNCE_NO_TEXTURE 0u
 
 typedef struct BounceMaterial {
-  float base_color[3];             /* linear albedo, multiplied with the texture */
-  float alpha;                     /* multiplied with the texture alpha when alpha_from_texture */
-  uint64_t base_color_texture;     /* texture key or BOUNCE_NO_TEXTURE */
-  int32_t alpha_from_texture;      /* the base-colour texture's alpha drives a cut-out */
-  float alpha_threshold;           /* cut-out: a surface point exists where alpha >= threshold */
-  float emission[3];               /* emitted radiance, colour * strength (W/m^2/sr), seen by the camera */
-  int32_t double_sided;            /* reserved, 1 */
+  float base_color[3];         /* linear albedo, multiplied with the texture */
+  float alpha;                 /* multiplied with the texture alpha when alpha_from_texture */
+  uint64_t base_color_texture; /* texture key or BOUNCE_NO_TEXTURE */
+  int32_t alpha_from_texture;  /* the base-colour texture's alpha drives a cut-out */
+  float alpha_threshold;       /* cut-out: a surface point exists where alpha >= threshold */
+  float emission[3];           /* emitted radiance, colour * strength (W/m^2/sr), seen by the camera */
+  int32_t double_sided;        /* reserved, 1 */
 } BounceMaterial;
 
 /* Replaces the whole material table. Instances refer to materials by index into it. */
@@ -158,8 +157,8 @@ typedef enum BounceLightType {
   BOUNCE_LIGHT_POINT = 0,
   BOUNCE_LIGHT_SPOT = 1,
   BOUNCE_LIGHT_SUN = 2,
-  BOUNCE_LIGHT_AREA_RECT = 3,      /* rectangle or square */
-  BOUNCE_LIGHT_AREA_ELLIPSE = 4    /* disk or ellipse */
+  BOUNCE_LIGHT_AREA_RECT = 3,   /* rectangle or square */
+  BOUNCE_LIGHT_AREA_ELLIPSE = 4 /* disk or ellipse */
 } BounceLightType;
 
 /* A light in radiometric units (the add-on converts Blender's units, see addon/export/lights.py):
@@ -173,12 +172,12 @@ typedef struct BounceLight {
   int32_t type;
   int32_t cast_shadow;
   float position[3];
-  float axis_x[3];                 /* unit vectors of the light's frame; the light shines along -axis_z */
+  float axis_x[3]; /* unit vectors of the light's frame; the light shines along -axis_z */
   float axis_y[3];
   float axis_z[3];
   float intensity[3];
-  float radius;                    /* point/spot soft radius */
-  float half_size[2];              /* area */
+  float radius;       /* point/spot soft radius */
+  float half_size[2]; /* area */
   float spot_half_angle;
   float spot_blend;
   int32_t spot_cos_falloff;
@@ -189,8 +188,8 @@ typedef struct BounceLight {
 BOUNCE_API BounceStatus bounce_lights_set(BounceEngine* engine, uint32_t count, const BounceLight* lights);
 
 typedef struct BounceWorld {
-  float background[3];             /* radiance seen where no surface is hit */
-  int32_t transparent;             /* background alpha 0 instead of 1 */
+  float background[3]; /* radiance seen where no surface is hit */
+  int32_t transparent; /* background alpha 0 instead of 1 */
 } BounceWorld;
 
 BOUNCE_API BounceStatus bounce_world_set(BounceEngine* engine, const BounceWorld* world);
@@ -198,12 +197,12 @@ BOUNCE_API BounceStatus bounce_world_set(BounceEngine* engine, const BounceWorld
 typedef struct BounceSceneStats {
   uint32_t mesh_count;
   uint32_t instance_count;
-  uint64_t triangle_count;         /* drawn triangles, instances counted */
-  uint64_t dropped_triangles;      /* non-finite or zero-area triangles removed at upload */
+  uint64_t triangle_count;    /* drawn triangles, instances counted */
+  uint64_t dropped_triangles; /* non-finite or zero-area triangles removed at upload */
   uint32_t light_count;
-  uint32_t skipped_lights;         /* zero, negative or non-finite intensity */
+  uint32_t skipped_lights; /* zero, negative or non-finite intensity */
   uint32_t texture_count;
-  uint64_t gpu_bytes;              /* geometry + textures */
+  uint64_t gpu_bytes; /* geometry + textures */
   float bounds_min[3];
   float bounds_max[3];
 } BounceSceneStats;
@@ -214,26 +213,26 @@ BOUNCE_API BounceStatus bounce_scene_stats(BounceEngine* engine, BounceSceneStat
 /* ---- Camera and rendering ---------------------------------------------------------------------------- */
 
 typedef struct BounceCamera {
-  float world_to_view[16];         /* Blender's view matrix (camera matrix_world inverted) */
-  float projection[16];            /* OpenGL clip-from-view, e.g. camera.calc_matrix_camera() or region window_matrix */
-  int32_t width, height;           /* full image size in pixels */
-  int32_t crop[4];                 /* x0, y0, x1, y1 in pixels (bottom-left origin, exclusive end) of the part
-                                      to render; all zero = the whole image (render border) */
-  int32_t frame;                   /* frame number, mixed into the seed */
+  float world_to_view[16]; /* Blender's view matrix (camera matrix_world inverted) */
+  float projection[16];    /* OpenGL clip-from-view, e.g. camera.calc_matrix_camera() or region window_matrix */
+  int32_t width, height;   /* full image size in pixels */
+  int32_t crop[4];         /* x0, y0, x1, y1 in pixels (bottom-left origin, exclusive end) of the part
+                              to render; all zero = the whole image (render border) */
+  int32_t frame;           /* frame number, mixed into the seed */
 } BounceCamera;
 
 typedef enum BounceAov {
-  BOUNCE_AOV_COMBINED = 0,         /* RGBA: direct + emission (+ indirect, later) + background */
-  BOUNCE_AOV_DIRECT = 1,           /* RGB: direct diffuse light reflected (albedo included) */
-  BOUNCE_AOV_EMISSION = 2,         /* RGB */
-  BOUNCE_AOV_ALBEDO = 3,           /* RGB: diffuse colour */
-  BOUNCE_AOV_NORMAL = 4,           /* XYZ: world-space shading normal */
-  BOUNCE_AOV_DEPTH = 5,            /* Z: distance along the view axis (Blender's Depth pass); 1e10 for background */
+  BOUNCE_AOV_COMBINED = 0, /* RGBA: direct + emission (+ indirect, later) + background */
+  BOUNCE_AOV_DIRECT = 1,   /* RGB: direct diffuse light reflected (albedo included) */
+  BOUNCE_AOV_EMISSION = 2, /* RGB */
+  BOUNCE_AOV_ALBEDO = 3,   /* RGB: diffuse colour */
+  BOUNCE_AOV_NORMAL = 4,   /* XYZ: world-space shading normal */
+  BOUNCE_AOV_DEPTH = 5,    /* Z: distance along the view axis (Blender's Depth pass); 1e10 for background */
   BOUNCE_AOV_COUNT = 6
 } BounceAov;
 
-BOUNCE_API int32_t bounce_aov_channels(int32_t aov);   /* 4, 3 or 1; 0 for an unknown AOV */
-BOUNCE_API const char* bounce_aov_name(int32_t aov);   /* "Combined", "Direct", ... */
+BOUNCE_API int32_t bounce_aov_channels(int32_t aov); /* 4, 3 or 1; 0 for an unknown AOV */
+BOUNCE_API const char* bounce_aov_name(int32_t aov); /* "Combined", "Direct", ... */
 
 /* Starts a render of settings->samples progressive samples (copied) in the background. A render already
  * running is cancelled first. */
@@ -250,11 +249,11 @@ typedef enum BounceRenderState {
 } BounceRenderState;
 
 typedef struct BounceRenderProgress {
-  int32_t state;                   /* BounceRenderState */
-  int32_t samples_done;            /* of the render in progress or the last one */
+  int32_t state;        /* BounceRenderState */
+  int32_t samples_done; /* of the render in progress or the last one */
   int32_t samples_total;
-  float progress;                  /* 0..1 over samples and tiles */
-  uint64_t frame_serial;           /* increments each time a readable frame is published */
+  float progress;        /* 0..1 over samples and tiles */
+  uint64_t frame_serial; /* increments each time a readable frame is published */
 } BounceRenderProgress;
 
 BOUNCE_API BounceStatus bounce_render_progress(BounceEngine* engine, BounceRenderProgress* out);
@@ -266,17 +265,17 @@ BOUNCE_API BounceStatus bounce_render_wait(BounceEngine* engine, int32_t timeout
 
 typedef struct BounceStageTime {
   char name[32];
-  double gpu_ms;                   /* GL timer queries, summed over samples and tiles */
-  double cpu_ms;                   /* wall time on the render thread */
+  double gpu_ms; /* GL timer queries, summed over samples and tiles */
+  double cpu_ms; /* wall time on the render thread */
 } BounceStageTime;
 
 typedef struct BounceFrameInfo {
-  int32_t width, height;           /* size of the published frame (the crop, if any) */
-  int32_t samples;                 /* samples averaged in it */
+  int32_t width, height; /* size of the published frame (the crop, if any) */
+  int32_t samples;       /* samples averaged in it */
   uint64_t serial;
   int32_t stage_count;
   BounceStageTime stages[BOUNCE_MAX_STAGES];
-  uint64_t nonfinite_pixels;       /* pixels whose value was NaN/Inf before being zeroed (should be 0) */
+  uint64_t nonfinite_pixels; /* pixels whose value was NaN/Inf before being zeroed (should be 0) */
 } BounceFrameInfo;
 
 /* The most recently published frame: after each progressive sample of a render (viewport) and at its end. */

@@ -76,8 +76,8 @@ EglContext::EglContext(const std::string& requested_platform, bool debug) {
   std::string chosen;
   display_ = shared_display(platform, chosen);
   if (display_ == EGL_NO_DISPLAY)
-    fail(BOUNCE_ERROR_CONTEXT, "no EGL display for platform '" + chosen +
-                                   "': install Mesa's EGL (libegl-mesa0) or a GPU driver with EGL");
+    fail(BOUNCE_ERROR_CONTEXT,
+         "no EGL display for platform '" + chosen + "': install Mesa's EGL (libegl-mesa0) or a GPU driver with EGL");
   if (!eglBindAPI(EGL_OPENGL_API)) fail(BOUNCE_ERROR_CONTEXT, egl_error_text("eglBindAPI(EGL_OPENGL_API)"));
   const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
                                4,

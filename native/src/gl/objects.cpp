@@ -81,7 +81,8 @@ void check(const char* what) {
   while (glGetError() != GL_NO_ERROR) {
   }
   if (error == GL_OUT_OF_MEMORY)
-    fail(BOUNCE_ERROR_GL, std::string(what) + ": out of GPU memory (lower the resolution, tile size or shadow map size)");
+    fail(BOUNCE_ERROR_GL,
+         std::string(what) + ": out of GPU memory (lower the resolution, tile size or shadow map size)");
   fail(BOUNCE_ERROR_GL, std::string(what) + ": GL error 0x" + std::to_string(error));
 }
 

@@ -50,12 +50,18 @@ std::string stage_log(GLuint shader) {
 // Lets shared files hold stage-specific code (e.g. gl_InstanceID exists in vertex shaders only).
 std::string stage_define(GLenum stage) {
   switch (stage) {
-    case GL_VERTEX_SHADER: return "#define BOUNCE_VERTEX_SHADER\n";
-    case GL_GEOMETRY_SHADER: return "#define BOUNCE_GEOMETRY_SHADER\n";
-    case GL_TESS_CONTROL_SHADER: return "#define BOUNCE_TESS_CONTROL_SHADER\n";
-    case GL_TESS_EVALUATION_SHADER: return "#define BOUNCE_TESS_EVALUATION_SHADER\n";
-    case GL_COMPUTE_SHADER: return "#define BOUNCE_COMPUTE_SHADER\n";
-    default: return "#define BOUNCE_FRAGMENT_SHADER\n";
+    case GL_VERTEX_SHADER:
+      return "#define BOUNCE_VERTEX_SHADER\n";
+    case GL_GEOMETRY_SHADER:
+      return "#define BOUNCE_GEOMETRY_SHADER\n";
+    case GL_TESS_CONTROL_SHADER:
+      return "#define BOUNCE_TESS_CONTROL_SHADER\n";
+    case GL_TESS_EVALUATION_SHADER:
+      return "#define BOUNCE_TESS_EVALUATION_SHADER\n";
+    case GL_COMPUTE_SHADER:
+      return "#define BOUNCE_COMPUTE_SHADER\n";
+    default:
+      return "#define BOUNCE_FRAGMENT_SHADER\n";
   }
 }
 

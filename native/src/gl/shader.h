@@ -11,8 +11,8 @@
 namespace bounce::gl {
 
 struct StageSource {
-  GLenum stage;          // GL_VERTEX_SHADER, ...
-  std::string path;      // relative to shaders/, e.g. "gbuffer/gbuffer.vert"
+  GLenum stage;      // GL_VERTEX_SHADER, ...
+  std::string path;  // relative to shaders/, e.g. "gbuffer/gbuffer.vert"
 };
 
 // Compiles and links; throws Error(BOUNCE_ERROR_GL) with the compiler log, naming the file.

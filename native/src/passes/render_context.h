@@ -15,14 +15,14 @@ struct RenderContext {
   const GpuScene& scene;
   const BounceSettings& settings;
   StageTimer& timer;
-  int width, height;                // of the tile being rendered
-  glm::mat4 view_projection;        // jittered, cropped to the tile
+  int width, height;          // of the tile being rendered
+  glm::mat4 view_projection;  // jittered, cropped to the tile
   glm::mat4 world_to_view;
   glm::vec3 camera_position;
   glm::vec3 camera_forward;
   bool orthographic;
-  uint32_t sample;                  // progressive sample index
-  uint32_t seed;                    // settings.seed mixed with the frame number
+  uint32_t sample;  // progressive sample index
+  uint32_t seed;    // settings.seed mixed with the frame number
 };
 
 // Draws the fullscreen triangle of shaders/common/fullscreen.vert.

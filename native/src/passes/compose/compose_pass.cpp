@@ -7,8 +7,8 @@
 namespace bounce {
 
 ComposePass::ComposePass()
-    : program_(gl::build_program({{GL_VERTEX_SHADER, "common/fullscreen.vert"},
-                                  {GL_FRAGMENT_SHADER, "compose/compose.frag"}})) {}
+    : program_(gl::build_program(
+          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "compose/compose.frag"}})) {}
 
 void ComposePass::clear(int width, int height) {
   if (width_ != width || height_ != height) {

@@ -26,8 +26,8 @@ LightBlock make_light_block(const BounceLight& light) {
 }
 
 DirectPass::DirectPass()
-    : program_(gl::build_program({{GL_VERTEX_SHADER, "common/fullscreen.vert"},
-                                  {GL_FRAGMENT_SHADER, "direct/direct.frag"}})),
+    : program_(gl::build_program(
+          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "direct/direct.frag"}})),
       light_buffer_(gl::make_buffer(sizeof(LightBlock), nullptr)) {}
 
 void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, ShadowPass& shadows) {

@@ -15,8 +15,8 @@ void GBuffer::bind_for_reading() const {
 }
 
 GBufferPass::GBufferPass()
-    : program_(gl::build_program({{GL_VERTEX_SHADER, "gbuffer/gbuffer.vert"},
-                                  {GL_FRAGMENT_SHADER, "gbuffer/gbuffer.frag"}})) {}
+    : program_(gl::build_program(
+          {{GL_VERTEX_SHADER, "gbuffer/gbuffer.vert"}, {GL_FRAGMENT_SHADER, "gbuffer/gbuffer.frag"}})) {}
 
 void GBufferPass::resize(int width, int height) {
   if (gbuffer_.width == width && gbuffer_.height == height) return;

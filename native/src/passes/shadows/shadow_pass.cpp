@@ -66,8 +66,8 @@ glm::vec3 light_shadow_origin(const BounceLight& light, uint32_t sample, uint32_
       return glm::normalize(cos_theta * az + sin_theta * (std::cos(phi) * ax + std::sin(phi) * ay));
     }
     case BOUNCE_LIGHT_AREA_RECT:
-      return centre + softness * ((2.0f * u.x - 1.0f) * light.half_size[0] * ax +
-                                  (2.0f * u.y - 1.0f) * light.half_size[1] * ay);
+      return centre +
+             softness * ((2.0f * u.x - 1.0f) * light.half_size[0] * ax + (2.0f * u.y - 1.0f) * light.half_size[1] * ay);
     case BOUNCE_LIGHT_AREA_ELLIPSE: {
       const glm::vec2 d = concentric_disk(u);
       return centre + softness * (d.x * light.half_size[0] * ax + d.y * light.half_size[1] * ay);
@@ -84,8 +84,8 @@ glm::vec3 light_shadow_origin(const BounceLight& light, uint32_t sample, uint32_
 }
 
 ShadowPass::ShadowPass()
-    : program_(gl::build_program({{GL_VERTEX_SHADER, "shadows/shadow.vert"},
-                                  {GL_FRAGMENT_SHADER, "shadows/shadow.frag"}})) {
+    : program_(
+          gl::build_program({{GL_VERTEX_SHADER, "shadows/shadow.vert"}, {GL_FRAGMENT_SHADER, "shadows/shadow.frag"}})) {
   GLuint id = 0;
   glCreateFramebuffers(1, &id);
   framebuffer_ = gl::Framebuffer(id);
@@ -103,8 +103,7 @@ void ShadowPass::trim(std::size_t light_count) {
   if (maps_.size() > light_count) maps_.resize(light_count);
 }
 
-void ShadowPass::prepare(const RenderContext& context, std::size_t index, const BounceLight& light,
-                         LightBlock& block) {
+void ShadowPass::prepare(const RenderContext& context, std::size_t index, const BounceLight& light, LightBlock& block) {
   glBindTextureUnit(6, dummy_2d_.id());
   glBindTextureUnit(7, dummy_cube_.id());
   const ShadowKind kind = context.scene.has_geometry() ? kind_of(light) : kShadowNone;
@@ -143,7 +142,8 @@ void ShadowPass::prepare(const RenderContext& context, std::size_t index, const 
       const glm::vec3 eye = centre + origin * (2.0f * scene_radius);
       const glm::mat4 view = glm::lookAt(eye, centre, any_perpendicular(origin));
       face_view_projections[0] = glm::ortho(-scene_radius, scene_radius, -scene_radius, scene_radius,
-                                            0.5f * scene_radius, 3.5f * scene_radius) * view;
+                                            0.5f * scene_radius, 3.5f * scene_radius) *
+                                 view;
       map.texel_factor = 2.0f * scene_radius / static_cast<float>(size);
     } else {
       float farthest = 0.0f;

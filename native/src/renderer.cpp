@@ -87,6 +87,7 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
           timer_,
           tile.width,
           tile.height,
+          glm::ivec2(tile.x, tile.y),
           tile_matrix(camera.width, camera.height, tile.x, tile.y, tile.width, tile.height, jitter) * projection *
               world_to_view,
           world_to_view,

@@ -24,6 +24,7 @@ layout(std140, binding = 4) uniform LightBlock {
   vec4 shadow_origin;         // xyz: this sample's point on the light (cube, perspective) or direction (sun)
   mat4 shadow_view_projection;
   vec4 shadow_params;         // x kind, y texel size factor, z near, w far
+  vec4 shadow_soft;           // x this sample's share of the light: its diameter (sun: 2 tan(half angle)), y map size
 } light;
 
 int light_type() { return int(light.position_type.w); }

@@ -10,6 +10,7 @@ void delete_framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
 void delete_vertex_array(GLuint id) { glDeleteVertexArrays(1, &id); }
 void delete_program(GLuint id) { glDeleteProgram(id); }
 void delete_query(GLuint id) { glDeleteQueries(1, &id); }
+void delete_sampler(GLuint id) { glDeleteSamplers(1, &id); }
 
 Buffer make_buffer(std::size_t bytes, const void* data, GLbitfield flags) {
   GLuint id = 0;

@@ -42,6 +42,7 @@ void delete_framebuffer(GLuint id);
 void delete_vertex_array(GLuint id);
 void delete_program(GLuint id);
 void delete_query(GLuint id);
+void delete_sampler(GLuint id);
 
 using Buffer = Name<delete_buffer>;
 using Texture = Name<delete_texture>;
@@ -49,6 +50,7 @@ using Framebuffer = Name<delete_framebuffer>;
 using VertexArray = Name<delete_vertex_array>;
 using Program = Name<delete_program>;
 using Query = Name<delete_query>;
+using Sampler = Name<delete_sampler>;
 
 Buffer make_buffer(std::size_t bytes, const void* data, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
 // Grows (never shrinks) `buffer` to hold `bytes`, then uploads. Returns the capacity.

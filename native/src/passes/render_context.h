@@ -16,6 +16,7 @@ struct RenderContext {
   const BounceSettings& settings;
   StageTimer& timer;
   int width, height;          // of the tile being rendered
+  glm::ivec2 tile_origin;     // the tile's lower-left pixel in the image
   glm::mat4 view_projection;  // jittered, cropped to the tile
   glm::mat4 world_to_view;
   glm::vec3 camera_position;

@@ -51,6 +51,7 @@ void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, S
     glViewport(0, 0, context.width, context.height);
     gbuffer.bind_for_reading();
     glUseProgram(program_.id());
+    glUniform2i(0, context.tile_origin.x, context.tile_origin.y);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
     draw_fullscreen_triangle();

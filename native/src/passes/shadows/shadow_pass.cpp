@@ -47,6 +47,18 @@ gl::Texture make_shadow_texture(ShadowKind kind, int size) {
   return texture;
 }
 
+// The diameter of the part of the light one sample stands for (sun: 2 tan of its half angle).
+float sample_share_diameter(const BounceLight& light, const BounceSettings& settings) {
+  float diameter = 0.0f;
+  switch (light.type) {
+    case BOUNCE_LIGHT_SUN: diameter = 2.0f * std::tan(0.5f * std::min(light.sun_angle, 3.0f)); break;
+    case BOUNCE_LIGHT_AREA_RECT:
+    case BOUNCE_LIGHT_AREA_ELLIPSE: diameter = 2.0f * std::max(light.half_size[0], light.half_size[1]); break;
+    default: diameter = 2.0f * light.radius;
+  }
+  return diameter * settings.shadow_softness / std::sqrt(static_cast<float>(settings.samples));
+}
+
 }  // namespace
 
 glm::vec3 light_shadow_origin(const BounceLight& light, uint32_t sample, uint32_t seed, uint32_t light_index,
@@ -94,6 +106,15 @@ ShadowPass::ShadowPass()
   // Samplers of both types must have a texture of their type bound, even when the light uses the other one.
   dummy_2d_ = make_shadow_texture(kShadowOrthographic, 1);
   dummy_cube_ = make_shadow_texture(kShadowCube, 1);
+  // Units 9 and 10 read the same depth maps as raw depth, for the blocker search.
+  GLuint sampler = 0;
+  glCreateSamplers(1, &sampler);
+  glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glSamplerParameteri(sampler, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glSamplerParameteri(sampler, wrap, GL_CLAMP_TO_EDGE);
+  raw_depth_sampler_ = gl::Sampler(sampler);
   const float one = 1.0f;
   glClearTexImage(dummy_2d_.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, &one);
   glClearTexImage(dummy_cube_.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, &one);
@@ -145,6 +166,8 @@ void ShadowPass::prepare(const RenderContext& context, std::size_t index, const 
                                             0.5f * scene_radius, 3.5f * scene_radius) *
                                  view;
       map.texel_factor = 2.0f * scene_radius / static_cast<float>(size);
+      map.near_plane = 0.5f * scene_radius;
+      map.far_plane = 3.5f * scene_radius;
     } else {
       float farthest = 0.0f;
       for (int corner = 0; corner < 8; ++corner) {
@@ -173,7 +196,11 @@ void ShadowPass::prepare(const RenderContext& context, std::size_t index, const 
     render(context, map, face_view_projections, faces);
   }
   glBindTextureUnit(kind == kShadowCube ? 7 : 6, map.depth.id());
+  glBindTextureUnit(kind == kShadowCube ? 10 : 9, map.depth.id());
   block.shadow_view_projection = map.view_projection;
+  block.shadow_soft[0] = sample_share_diameter(light, context.settings);
+  block.shadow_soft[1] = static_cast<float>(size);
+  block.shadow_soft[2] = static_cast<float>(context.sample);
   block.shadow_params[1] = map.texel_factor;
   block.shadow_params[2] = map.near_plane;
   block.shadow_params[3] = map.far_plane;

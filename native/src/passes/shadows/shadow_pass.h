@@ -9,7 +9,9 @@
 // diameter), scaled by settings.shadow_softness. The direct pass multiplies the exact unshadowed irradiance by
 // this visibility, so over the samples the shadow converges to the light-averaged visibility, which is the
 // exact answer as the light gets small (and exact for any size where it is fully visible or fully hidden).
-// Sample 0 uses the light's centre.
+// Sample 0 uses the light's centre. So that few samples do not show as stacked hard shadows, each lookup is
+// also filtered (percentage-closer, with a blocker search as in PCSS) over the penumbra of the sample's share
+// of the light, whose diameter is the light's divided by sqrt(samples): the filter vanishes as samples grow.
 #pragma once
 
 #include <vector>
@@ -33,6 +35,7 @@ struct LightBlock {
   float shadow_origin[4];
   glm::mat4 shadow_view_projection;
   float shadow_params[4];
+  float shadow_soft[4];
 };
 
 enum ShadowKind { kShadowNone = 0, kShadowOrthographic = 1, kShadowPerspective = 2, kShadowCube = 3 };
@@ -62,6 +65,7 @@ class ShadowPass {
   gl::Program program_;
   gl::Framebuffer framebuffer_;
   gl::Texture dummy_2d_, dummy_cube_;
+  gl::Sampler raw_depth_sampler_;
   std::vector<ShadowMap> maps_;
 };
 

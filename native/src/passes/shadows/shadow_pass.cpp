@@ -51,10 +51,15 @@ gl::Texture make_shadow_texture(ShadowKind kind, int size) {
 float sample_share_diameter(const BounceLight& light, const BounceSettings& settings) {
   float diameter = 0.0f;
   switch (light.type) {
-    case BOUNCE_LIGHT_SUN: diameter = 2.0f * std::tan(0.5f * std::min(light.sun_angle, 3.0f)); break;
+    case BOUNCE_LIGHT_SUN:
+      diameter = 2.0f * std::tan(0.5f * std::min(light.sun_angle, 3.0f));
+      break;
     case BOUNCE_LIGHT_AREA_RECT:
-    case BOUNCE_LIGHT_AREA_ELLIPSE: diameter = 2.0f * std::max(light.half_size[0], light.half_size[1]); break;
-    default: diameter = 2.0f * light.radius;
+    case BOUNCE_LIGHT_AREA_ELLIPSE:
+      diameter = 2.0f * std::max(light.half_size[0], light.half_size[1]);
+      break;
+    default:
+      diameter = 2.0f * light.radius;
   }
   return diameter * settings.shadow_softness / std::sqrt(static_cast<float>(settings.samples));
 }

@@ -45,8 +45,8 @@ class GpuScene {
 
   // Rebuilds batches and tables if anything changed since the last call.
   void prepare();
-  // Draws every batch with the bound program; `alpha_tested_only` skips nothing, it is for readability of
-  // callers that need cut-outs: the shaders discard by material.
+  // Draws every batch with the bound program, binding each batch's base-colour texture (cut-outs are
+  // discarded by the shaders, per material).
   void draw() const;
 
   const std::vector<BounceLight>& lights() const { return lights_.lights; }

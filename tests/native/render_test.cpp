@@ -314,3 +314,29 @@ TEST_F(Render, TwoEnginesAtOnce) {
 
 }  // namespace
 }  // namespace bounce::test
+
+namespace bounce::test {
+namespace {
+
+// Both EGL platforms make a context here (Mesa offers a software EGL device too); a wrong name is refused
+// with a message that names the variable.
+TEST(EglPlatform, SurfacelessDeviceAndInvalid) {
+  for (const char* platform : {"surfaceless", "device"}) {
+    BounceEngineDesc desc{platform, 0};
+    BounceEngine* engine = nullptr;
+    ASSERT_EQ(bounce_engine_create(&desc, &engine), BOUNCE_OK) << platform << ": " << bounce_last_error();
+    char info[256];
+    ASSERT_EQ(bounce_engine_gl_info(engine, info, sizeof info), BOUNCE_OK);
+    EXPECT_NE(std::string(info).find(std::string("EGL ") + platform), std::string::npos) << info;
+    EXPECT_NE(std::string(info).find("4."), std::string::npos) << info;
+    bounce_engine_destroy(engine);
+  }
+  BounceEngineDesc bogus{"bogus", 0};
+  BounceEngine* engine = nullptr;
+  EXPECT_EQ(bounce_engine_create(&bogus, &engine), BOUNCE_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(engine, nullptr);
+  EXPECT_NE(std::string(bounce_last_error()).find("BOUNCE_EGL_PLATFORM"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace bounce::test

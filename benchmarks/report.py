@@ -51,15 +51,26 @@ def plot(rows, path, title):
     import matplotlib.pyplot as plt
     stage_columns = [c for c in rows[0] if c.endswith(" gpu_ms") and c != "frame gpu_ms" and not c.startswith("Readback")]
     labels = [f"{r['scene']}\n{r['resolution']}" for r in rows]
-    fig, ax = plt.subplots(figsize=(max(5, 1.8 * len(rows)), 4))
+    fig, (frame_ax, sync_ax) = plt.subplots(1, 2, figsize=(max(8, 3.2 * len(rows)), 4.2),
+                                            gridspec_kw={"width_ratios": [3, 2]})
     bottom = [0.0] * len(rows)
     for column in stage_columns:
         values = [r[column] for r in rows]
-        ax.bar(labels, values, bottom=bottom, label=column.replace(" gpu_ms", ""))
+        frame_ax.bar(labels, values, bottom=bottom, label=column.replace(" gpu_ms", ""))
         bottom = [b + v for b, v in zip(bottom, values)]
-    ax.set_ylabel("GPU time per sample (ms)")
-    ax.set_title(title)
-    ax.legend()
+    frame_ax.set_ylabel("GPU time per sample (ms)")
+    frame_ax.set_title("Frame, per stage", fontsize=10)
+    frame_ax.legend(fontsize=8)
+    bars = sync_ax.bar(labels, [r["sync_ms"] for r in rows], color="tab:gray")
+    for bar, row in zip(bars, rows):
+        sync_ax.annotate(f"{row['triangles']:,} tris", (bar.get_x() + bar.get_width() / 2, bar.get_height()),
+                         ha="center", va="bottom", fontsize=8)
+    sync_ax.set_yscale("log")
+    sync_ax.set_ylabel("Blender -> core sync (ms)")
+    sync_ax.set_title("Scene sync (first render)", fontsize=10)
+    for ax in (frame_ax, sync_ax):
+        ax.tick_params(axis="x", labelsize=8)
+    fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
 

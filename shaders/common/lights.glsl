@@ -96,15 +96,29 @@ int area_light_polygon(out vec3 vertices[MAX_POLYGON]) {
   return ELLIPSE_SEGMENTS;
 }
 
-// Unshadowed irradiance at x with shading normal n, per colour channel.
-vec3 light_irradiance(vec3 x, vec3 n) {
+float planar_polygon_area(vec3 vertices[MAX_POLYGON], int count) {
+  vec3 sum = vec3(0.0);
+  for (int i = 0; i < count; ++i) sum += cross(vertices[i], vertices[(i + 1) % count]);
+  return 0.5 * length(sum);
+}
+
+// Unshadowed irradiance at x with shading normal n, per colour channel. `above_horizon` is the fraction of the
+// light (area: of its surface; point and spot: of the ball of their radius) on the lit side of the receiver's
+// tangent plane: the probability that a uniform light sample can reach the receiver at all.
+vec3 light_irradiance(vec3 x, vec3 n, out float above_horizon) {
+  above_horizon = 1.0;
   int type = light_type();
   if (type == LIGHT_SUN) return light.intensity.rgb * max(dot(n, light.axis_z.xyz), 0.0);
   vec3 to_light = light.position_type.xyz - x;
   if (type == LIGHT_POINT || type == LIGHT_SPOT) {
+    float r = light.shape.x;
+    if (r > 0.0) {
+      float t = clamp(r - dot(n, to_light), 0.0, 2.0 * r);  // height of the ball's cap below the plane
+      above_horizon = 1.0 - t * t * (3.0 * r - t) / (4.0 * r * r * r);
+    }
     float d2 = dot(to_light, to_light);
     vec3 l = to_light * inversesqrt(max(d2, 1e-30));
-    float falloff = max(dot(n, l), 0.0) / (d2 + light.shape.x * light.shape.x);
+    float falloff = max(dot(n, l), 0.0) / (d2 + r * r);
     if (type == LIGHT_SPOT) falloff *= spot_attenuation(-l);
     return light.intensity.rgb * falloff;
   }
@@ -116,5 +130,6 @@ vec3 light_irradiance(vec3 x, vec3 n) {
   vec3 clipped[MAX_POLYGON];
   int clipped_count = clip_to_horizon(polygon, count, n, clipped);
   if (clipped_count < 3) return vec3(0.0);
+  above_horizon = clamp(planar_polygon_area(clipped, clipped_count) / planar_polygon_area(polygon, count), 0.0, 1.0);
   return light.intensity.rgb * polygon_projected_solid_angle(clipped, clipped_count, n);
 }

@@ -4,6 +4,7 @@
   Standard view transform (sRGB), within a few 8-bit levels.
 - Incremental sync: moving a light or an object re-renders without re-exporting geometry.
 - The UI stays responsive while a long progressive render runs (timers keep firing).
+- An F12 render while the viewport renders: both engines live in one Blender process.
 """
 import json
 import shutil
@@ -97,3 +98,13 @@ def test_ui_stays_responsive_during_a_long_render(viewport_run):
     record("viewport.ui_max_timer_gap_seconds", result["ui_max_gap_seconds"])
     assert result["ui_ticks"] >= 10
     assert result["ui_max_gap_seconds"] < 0.5
+
+
+def test_final_render_while_the_viewport_renders(viewport_run):
+    import OpenImageIO as oiio
+    _out, result, _capture = viewport_run
+    image = oiio.ImageBuf(result["final_render"])
+    pixels = np.asarray(image.get_pixels(oiio.FLOAT))
+    assert image.spec().width == 64
+    assert np.isfinite(pixels).all() and pixels[..., :3].max() > 0.05
+    assert result["viewport_after_final_serial"] > result["serial_before_final"]

@@ -166,8 +166,29 @@ def step_responsive():
     return True
 
 
+def step_final_render():
+    """F12 while the viewport engine lives: two engines (two render threads, two GL contexts) at once."""
+    bpy.context.scene.bounce.viewport_samples = 4
+    result["serial_before_final"] = viewport_session().engine.frame_info().serial
+    scene = bpy.context.scene
+    scene.render.resolution_x = scene.render.resolution_y = 64
+    bpy.ops.render.render()
+    path = os.path.join(OUT, "final.exr")
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    bpy.data.images["Render Result"].save_render(path)
+    result["final_render"] = path
+    return True
+
+
+def step_viewport_after_final():
+    if not rendered_and_drawn() or viewport_session().engine.frame_info().serial == result["serial_before_final"]:
+        return False
+    result["viewport_after_final_serial"] = viewport_session().engine.frame_info().serial
+    return True
+
+
 STEPS = [step_setup, step_first_frame, step_capture, step_move_light, step_after_light, step_move_object,
-         step_after_object, step_responsive]
+         step_after_object, step_responsive, step_final_render, step_viewport_after_final]
 DEADLINE = time.perf_counter() + 240.0
 
 

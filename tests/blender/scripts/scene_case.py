@@ -1,0 +1,219 @@
+"""Small hand-built scenes for robustness and pass tests: build case CASE, render it F12-style with Bounce
+(bpy.ops.render.render(write_still=True), multilayer 32-bit EXR), record what happened.
+
+    blender -b --factory-startup --python scene_case.py -- CASE OUT_DIR
+
+Writes OUT_DIR/CASE.exr (when Blender wrote an image) and OUT_DIR/CASE.json: {"render_error": message of the
+exception bpy.ops.render.render raised, or null; "exr": path or null; ...}. A render that fails with an error
+report is not a script failure: the pytest side decides what each case expects.
+"""
+import math
+import os
+import sys
+
+import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bl_common as bc  # noqa: E402
+
+RES = 32
+
+
+def base(scene, camera=True, light=True, ground=True):
+    """Ground plane, a perspective camera looking at the origin from above, a 1000 W point light."""
+    if ground:
+        bc.add_plane(scene, 10.0, material=bc.diffuse_material("Ground", (0.8, 0.8, 0.8)), name="Ground")
+    if camera:
+        cam = bpy.data.cameras.new("Camera")
+        cam.lens = 35.0
+        ob = bpy.data.objects.new("Camera", cam)
+        ob.location = (0.0, -6.0, 4.0)
+        ob.rotation_euler = (math.radians(56.3), 0.0, 0.0)
+        scene.collection.objects.link(ob)
+        scene.camera = ob
+    if light:
+        add_point_light(scene, 1000.0, (1.0, -1.0, 4.0))
+
+
+def add_point_light(scene, energy, location, name="Light"):
+    ld = bpy.data.lights.new(name, type="POINT")
+    ld.energy = energy
+    ld.shadow_soft_size = 0.1
+    ob = bpy.data.objects.new(name, ld)
+    ob.location = location
+    scene.collection.objects.link(ob)
+    return ob
+
+
+def cube_mesh(scene, name, size, location, material=None):
+    h = size / 2.0
+    verts = [(x, y, z) for x in (-h, h) for y in (-h, h) for z in (-h, h)]
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    ob = bc.add_mesh(scene, name, verts, faces, material)
+    ob.location = location
+    return ob
+
+
+# ---- cases ------------------------------------------------------------------------------------------------
+
+def case_nan_vertices(scene):
+    base(scene)
+    ob = cube_mesh(scene, "NaNCube", 1.0, (0.0, 0.0, 0.5))
+    co = [0.0] * (len(ob.data.vertices) * 3)
+    ob.data.vertices.foreach_get("co", co)
+    co[0] = float("nan")
+    co[4] = float("inf")
+    co[8] = float("-inf")
+    ob.data.vertices.foreach_set("co", co)
+    ob.data.update()
+
+
+def case_degenerate_triangles(scene):
+    base(scene)
+    verts = [(0, 0, 1), (1, 0, 1), (1, 0, 1),            # zero area: two equal vertices
+             (0, 1, 1), (1, 1, 1), (2, 1, 1),            # collinear
+             (0, 2, 1), (0, 2, 1), (0, 2, 1),            # a point
+             (-1, -1, 0.5), (-0.5, -1, 0.5), (-1, -0.5, 0.5)]  # one good triangle
+    bc.add_mesh(scene, "Degenerate", verts, [(0, 1, 2), (3, 4, 5), (6, 7, 8), (9, 10, 11)])
+
+
+def case_tiny_triangles(scene):
+    base(scene)
+    e = 1e-20  # area ~1e-40: below float precision, not exactly zero
+    verts = [(0, 0, 1), (e, 0, 1), (0, e, 1), (1e20, 0, 1), (1e20, 1, 1), (1e20, 0, 2)]
+    bc.add_mesh(scene, "Tiny", verts, [(0, 1, 2), (3, 4, 5)])
+
+
+def case_empty_scene(scene):
+    pass  # no objects at all: no camera either
+
+
+def case_camera_only(scene):
+    base(scene, light=False, ground=False)
+
+
+def case_no_faces(scene):
+    base(scene)
+    bc.add_mesh(scene, "Wire", [(0, 0, 1), (1, 0, 1), (1, 1, 1)], [])
+    me = bpy.data.meshes.new("Edges")
+    me.from_pydata([(0, 0, 1), (1, 0, 1), (1, 1, 1)], [(0, 1), (1, 2)], [])
+    scene.collection.objects.link(bpy.data.objects.new("Edges", me))
+    scene.collection.objects.link(bpy.data.objects.new("NoVerts", bpy.data.meshes.new("NoVerts")))
+
+
+def case_light_0w(scene):
+    base(scene, light=False)
+    add_point_light(scene, 0.0, (1.0, -1.0, 4.0))
+
+
+def case_light_1e9w(scene):
+    base(scene, light=False)
+    add_point_light(scene, 1e9, (1.0, -1.0, 4.0))
+
+
+def case_light_nan(scene):
+    base(scene, light=False)
+    ob = add_point_light(scene, 100.0, (1.0, -1.0, 4.0))
+    ob.data["energy"] = float("nan")  # IDProperty path around the RNA range check
+    ob.data.energy = float("nan")
+
+
+def case_camera_inside_object(scene):
+    base(scene)
+    cube_mesh(scene, "Shell", 2.0, (0.0, -6.0, 4.0), bc.diffuse_material("Shell", (0.5, 0.5, 0.5)))
+
+
+def case_missing_texture(scene):
+    base(scene)
+    mat = bc.diffuse_material("Textured", (0.8, 0.8, 0.8))
+    nt = mat.node_tree
+    img = bpy.data.images.new("missing", 4, 4)
+    img.source = "FILE"
+    img.filepath = "/nonexistent/bounce-missing-texture.png"
+    tex = nt.nodes.new("ShaderNodeTexImage")
+    tex.image = img
+    dif = next(n for n in nt.nodes if n.type == "BSDF_DIFFUSE")
+    nt.links.new(tex.outputs["Color"], dif.inputs["Color"])
+    cube_mesh(scene, "TexturedCube", 1.5, (0.0, 0.0, 0.75), mat)
+
+
+def case_resolution_1x1(scene):
+    base(scene)
+    cube_mesh(scene, "Cube", 1.0, (0.0, 0.0, 0.5))
+    bc.set_resolution(scene, 1, 1)
+
+
+def case_resolution_large(scene):
+    base(scene)
+    cube_mesh(scene, "Cube", 1.0, (0.0, 0.0, 0.5))
+    size = int(os.environ.get("BOUNCE_TEST_LARGE_RES", "8192"))
+    bc.set_resolution(scene, size, size)
+    scene.bounce.samples = 1
+    # only Combined: a 17-channel 32-bit EXR of 8192^2 would take minutes to compress and GBs to hold
+    bc.single_layer_exr(scene)
+
+
+def case_invalid_settings(scene):
+    base(scene)
+    cube_mesh(scene, "Cube", 1.0, (0.0, 0.0, 0.5))
+    # RNA clamps out-of-range assignments; the ID-property path (old files, drivers, scripts) does not.
+    scene.bounce.samples = 0
+    print("samples after RNA assignment of 0:", scene.bounce.samples)
+    scene.bounce["samples"] = 0
+    scene.bounce["shadow_map_size"] = 3
+    scene.bounce["filter_width"] = float("nan")
+    print("raw settings:", dict(scene.bounce.items()))
+
+
+def case_invalid_enum(scene):
+    base(scene)
+    cube_mesh(scene, "Cube", 1.0, (0.0, 0.0, 0.5))
+    scene.bounce["method"] = 99
+    print("method after raw assignment of 99:", repr(scene.bounce.method))
+
+
+def case_emission(scene):
+    """Passes: an emissive quad (Emission shader, colour (1, 0.5, 0.25), strength 2) beside a lit cube."""
+    base(scene)
+    scene.bounce.filter_width = 0.0  # pixel centres: no partly covered pixels at the quad's edges
+    cube_mesh(scene, "Cube", 1.0, (1.0, 0.0, 0.5))
+    mat = bpy.data.materials.new("Glow")
+    if mat.node_tree is None:
+        mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    em = nt.nodes.new("ShaderNodeEmission")
+    em.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+    em.inputs["Strength"].default_value = 2.0
+    nt.links.new(em.outputs["Emission"], out.inputs["Surface"])
+    glow = bc.add_mesh(scene, "Glow", [(-2, -1, 0.01), (-0.5, -1, 0.01), (-0.5, 0.5, 0.01), (-2, 0.5, 0.01)],
+                       [(0, 1, 2, 3)], mat)
+    glow.location = (0, 0, 0.02)
+
+
+def main():
+    case, out = bc.args()[:2]
+    os.makedirs(out, exist_ok=True)
+    bc.clear_data()
+    scene = bpy.context.scene
+    bc.black_world(scene)
+    bc.set_resolution(scene, RES, RES)
+    bc.linear_output(scene)
+    bc.bounce_settings(scene, method="DIRECT", samples=4, shadow_map_size=256)
+    globals()["case_" + case](scene)
+    path = os.path.join(out, case)
+    error = None
+    try:
+        bc.render_still(scene, path)
+    except RuntimeError as e:  # Blender raises for errors it reports itself (e.g. no camera)
+        error = str(e)
+        print(f"render raised: {error}")
+    exr = path + ".exr"
+    bc.write_json(os.path.join(out, case + ".json"), {
+        "render_error": error, "exr": exr if os.path.isfile(exr) else None,
+        "resolution": [scene.render.resolution_x, scene.render.resolution_y]})
+    print(f"case {case} done")
+
+
+main()

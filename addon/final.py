@@ -1,0 +1,132 @@
+"""Final renders (F12, `blender -b`) and material previews: sync, render, write the RenderResult."""
+import time
+
+import numpy as np
+
+from . import native, session
+from .export import Reports, failures_reported, final_camera
+from .properties import fill_settings
+
+# Render passes: native AOV, Blender pass name, channel ids, pass type. Names match bounce_aov_name().
+PASSES = (
+    (native.AOV_COMBINED, "Combined", "RGBA", "COLOR"),
+    (native.AOV_DIRECT, "Direct", "RGB", "COLOR"),
+    (native.AOV_EMISSION, "Emission", "RGB", "COLOR"),
+    (native.AOV_ALBEDO, "Albedo", "RGB", "COLOR"),
+    (native.AOV_NORMAL, "Normal", "XYZ", "VECTOR"),
+    (native.AOV_DEPTH, "Depth", "Z", "VALUE"),
+)
+_AOV_BY_PASS = {name: aov for aov, name, _, _ in PASSES}
+
+WAIT_MS = 100
+
+# Summary of the last final render, for the render panel: {"stages": [(name, gpu_ms, cpu_ms)], ...}.
+last_render = {}
+
+
+def register_passes(engine, scene, view_layer):
+    for _aov, name, channel_ids, pass_type in PASSES:
+        engine.register_pass(scene, view_layer, name, len(channel_ids), channel_ids, pass_type)
+
+
+def render(engine, depsgraph):
+    """RenderEngine.render: every failure ends as a report, never a traceback."""
+    reports = Reports()
+    with failures_reported(reports, "Bounce render"):
+        _render(engine, depsgraph, reports)
+    # Material previews render Blender's own preview scenes: their warnings would only be noise.
+    reports.emit(engine.report, warnings=not engine.is_preview)
+
+
+def _render(engine, depsgraph, reports):
+    kind = session.PREVIEW if engine.is_preview else session.FINAL
+    current = session.get(engine, kind)
+    if current is None:
+        return
+    scene = depsgraph.scene
+
+    engine.update_stats("", "Bounce | Syncing scene")
+    current.scene.sync(depsgraph, reports)
+    camera = final_camera(engine, depsgraph)
+    settings = fill_settings(scene.bounce, viewport=False)
+    scene_stats = current.engine.scene_stats()
+    _report_scene_stats(scene_stats, reports)
+
+    start = time.perf_counter()
+    current.engine.render_start(settings, camera)
+    while not current.engine.render_wait(WAIT_MS):
+        if engine.test_break():
+            current.engine.render_cancel()
+            return
+        _show_progress(engine, current.engine.render_progress())
+    _show_progress(engine, current.engine.render_progress())
+    render_seconds = time.perf_counter() - start
+
+    info = current.engine.frame_info()
+    if info is None:
+        raise native.InternalError("the render finished without publishing a frame")
+    if info.nonfinite_pixels:
+        reports.warn(f"Bounce: {info.nonfinite_pixels} pixels were not finite and were set to zero")
+    _write_result(engine, depsgraph, current.engine, info)
+    _summarize(engine, kind, info, scene_stats, current.scene.stats, render_seconds)
+
+
+def _show_progress(engine, progress):
+    engine.update_progress(min(max(progress.progress, 0.0), 1.0))
+    engine.update_stats("", f"Bounce | Sample {progress.samples_done}/{progress.samples_total}")
+
+
+def _report_scene_stats(stats, reports):
+    if stats.dropped_triangles:
+        reports.warn(f"Bounce: {stats.dropped_triangles} triangles with non-finite or collinear vertices were "
+                     "dropped")
+    if stats.skipped_lights:
+        reports.warn(f"Bounce: {stats.skipped_lights} lights with zero or non-finite power were skipped")
+
+
+def _write_result(engine, depsgraph, native_engine, info):
+    result = engine.begin_result(0, 0, info.width, info.height, layer=depsgraph.view_layer.name)
+    try:
+        width, height = result.resolution_x, result.resolution_y
+        for render_pass in result.layers[0].passes:
+            aov = _AOV_BY_PASS.get(render_pass.name)
+            if aov is None:
+                continue
+            pixels = native_engine.frame_read(aov, info.width, info.height)
+            _set_rect(render_pass.rect, _fit(pixels, info.width, info.height, width, height, render_pass.channels))
+    finally:
+        engine.end_result(result)
+
+
+def _set_rect(rect, pixels):
+    """Blender 3.x's RenderPass.rect takes a (pixels, channels) array, 4.x+ a flat one."""
+    try:
+        rect.foreach_set(pixels)
+    except TypeError:
+        rect.foreach_set(pixels.reshape(-1))
+
+
+def _fit(pixels, src_width, src_height, width, height, channels):
+    """`pixels` (src_height*src_width, C) as (height*width, channels): the usual case returns it unchanged; a
+    size or channel mismatch keeps the overlap and zero-fills the rest."""
+    if (src_width, src_height, pixels.shape[1]) == (width, height, channels):
+        return pixels
+    out = np.zeros((height, width, channels), dtype=np.float32)
+    rows, cols, chans = min(height, src_height), min(width, src_width), min(channels, pixels.shape[1])
+    out[:rows, :cols, :chans] = pixels.reshape(src_height, src_width, -1)[:rows, :cols, :chans]
+    return out.reshape(-1, channels)
+
+
+def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
+    stages = info.stage_list()
+    stage_text = ", ".join(f"{name} {gpu_ms:.1f} ms" for name, gpu_ms, _cpu_ms in stages)
+    engine.update_stats("", f"Bounce | {info.samples} samples | {stage_text}")
+    if kind != session.FINAL:
+        return
+    last_render.clear()
+    last_render.update(
+        stages=stages, samples=info.samples, width=info.width, height=info.height,
+        render_seconds=render_seconds, sync_seconds=sync_stats.last_sync_seconds,
+        triangles=scene_stats.triangle_count, dropped_triangles=scene_stats.dropped_triangles,
+        lights=scene_stats.light_count, skipped_lights=scene_stats.skipped_lights,
+        meshes=scene_stats.mesh_count, instances=scene_stats.instance_count, gpu_bytes=scene_stats.gpu_bytes)

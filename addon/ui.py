@@ -1,0 +1,201 @@
+"""Bounce's panels in the Render properties, and Blender's own light/material/world panels enabled for Bounce."""
+import bpy
+
+from . import final, native
+from .engine import BounceRenderEngine
+from .export.lights import shadow_property
+from .properties import VIEWPORT_PREFIX, has_viewport_variant, settings_table
+
+ENGINE_ID = BounceRenderEngine.bl_idname
+
+# Blender panels made visible for Bounce, besides every panel that lists the generic 'BLENDER_RENDER' (output,
+# colour management, camera, object data, ...). EEVEE's are used rather than Cycles': they are part of Blender
+# itself, and every Cycles panel polls the one COMPAT_ENGINES set of its mixin, so one cannot be shown alone.
+# Names missing in a Blender version are skipped.
+_BORROWED_PANELS = (
+    "DATA_PT_EEVEE_light", "DATA_PT_spot", "DATA_PT_preview",                              # light
+    "EEVEE_MATERIAL_PT_context_material", "EEVEE_MATERIAL_PT_surface", "MATERIAL_PT_preview",  # material
+    "EEVEE_WORLD_PT_surface",                                                              # world
+)
+# Generic panels left out: features Bounce does not render, and the light panel that shows the type only (the
+# borrowed light panel shows it too).
+_EXCLUDED_PANEL_WORDS = ("freestyle", "lightprobe", "falloff_curve")
+_EXCLUDED_PANELS = {"DATA_PT_light", "DATA_PT_area", "NODE_DATA_PT_light"}
+
+
+def _borrowed_panels():
+    panels = []
+    for panel in bpy.types.Panel.__subclasses__():
+        engines = getattr(panel, "COMPAT_ENGINES", None)
+        name = panel.__name__
+        if isinstance(engines, set) and "BLENDER_RENDER" in engines and name not in _EXCLUDED_PANELS \
+                and not any(word in name.lower() for word in _EXCLUDED_PANEL_WORDS):
+            panels.append(panel)
+    for name in _BORROWED_PANELS:
+        panel = getattr(bpy.types, name, None)
+        if panel is not None and isinstance(getattr(panel, "COMPAT_ENGINES", None), set):
+            panels.append(panel)
+    return panels
+
+
+class BouncePanel:
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+    COMPAT_ENGINES = {ENGINE_ID}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+
+class BOUNCE_PT_load_error(BouncePanel, bpy.types.Panel):
+    bl_label = "Bounce"
+    bl_options = {"HIDE_HEADER"}
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and native.load_error() is not None
+
+    def draw(self, context):
+        box = self.layout.box()
+        box.alert = True
+        box.label(text="Bounce cannot render: the native library did not load.", icon="ERROR")
+        for line in _wrap(native.load_error(), 70):
+            box.label(text=line)
+
+
+class BOUNCE_PT_light_shadow(BouncePanel, bpy.types.Panel):
+    bl_label = "Shadow"
+    bl_context = "data"
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and context.light is not None
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        owner, name = shadow_property(context.light)
+        if owner is not None:
+            layout.prop(owner, name, text="Cast Shadow")
+
+
+class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
+    bl_label = "Last Render"
+    bl_options = {"DEFAULT_CLOSED"}
+    bl_order = 100
+
+    def draw(self, context):
+        layout = self.layout
+        info = final.last_render
+        if not info:
+            layout.label(text="No final render yet")
+            return
+        col = layout.column(align=True)
+        col.label(text=f"{info['width']} x {info['height']}, {info['samples']} samples, "
+                       f"render {info['render_seconds'] * 1e3:.0f} ms, sync {info['sync_seconds'] * 1e3:.0f} ms")
+        col.label(text=f"{info['triangles']:,} triangles, {info['instances']} instances, {info['meshes']} meshes, "
+                       f"{info['lights']} lights, {info['gpu_bytes'] / 2**20:.1f} MiB")
+        if info["dropped_triangles"] or info["skipped_lights"]:
+            col.label(text=f"Dropped {info['dropped_triangles']:,} triangles, skipped {info['skipped_lights']} "
+                           "lights", icon="ERROR")
+        if info["stages"]:
+            grid = layout.grid_flow(row_major=True, columns=3, even_columns=True, align=True)
+            for label in ("Stage", "GPU ms", "CPU ms"):
+                grid.label(text=label)
+            for name, gpu_ms, cpu_ms in info["stages"]:
+                grid.label(text=name)
+                grid.label(text=f"{gpu_ms:.2f}")
+                grid.label(text=f"{cpu_ms:.2f}")
+
+
+def _settings_panel(group, rows, order):
+    """A Render-properties panel for one `group` of the settings table; viewport variants sit beside."""
+    has_pairs = any(has_viewport_variant(row) for row in rows)
+
+    def draw(self, context):
+        props = context.scene.bounce
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        if has_pairs:
+            _labels, values = _label_split(layout)
+            values.label(text="Render")
+            values.label(text="Viewport")
+        for row in rows:
+            name = row["name"]
+            if has_viewport_variant(row):
+                labels, values = _label_split(layout)
+                labels.label(text=row["label"])
+                values.prop(props, name, text="")
+                values.prop(props, VIEWPORT_PREFIX + name, text="")
+            else:
+                layout.prop(props, name)
+
+    slug = "".join(c if c.isalnum() else "_" for c in group.lower())
+    return type(f"BOUNCE_PT_settings_{slug}", (BouncePanel, bpy.types.Panel),
+                {"bl_label": group, "bl_order": order, "draw": draw})
+
+
+def _label_split(layout):
+    """A row laid out like use_property_split: a right-aligned label column, then an aligned row of values."""
+    split = layout.split(factor=0.4)
+    labels = split.row()
+    labels.alignment = "RIGHT"
+    return labels, split.row(align=True)
+
+
+def _wrap(text, width):
+    lines, line = [], ""
+    for word in text.split():
+        if line and len(line) + 1 + len(word) > width:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}" if line else word
+    return lines + ([line] if line else [])
+
+
+class _Registered:
+    panels = []      # classes registered here
+    borrowed = []    # Blender panels whose COMPAT_ENGINES got ENGINE_ID
+    copied = []      # those of them that got a COMPAT_ENGINES set of their own
+
+
+def _add_engine(panel):
+    # A panel that inherits COMPAT_ENGINES from a mixin shares the set with its siblings; adding to it would show
+    # all of them. Such a panel gets a set of its own, removed again on unregister.
+    if "COMPAT_ENGINES" not in panel.__dict__:
+        panel.COMPAT_ENGINES = set(panel.COMPAT_ENGINES)
+        _Registered.copied.append(panel)
+    panel.COMPAT_ENGINES.add(ENGINE_ID)
+    _Registered.borrowed.append(panel)
+
+
+def _settings_panels():
+    groups = {}
+    for row in settings_table():
+        groups.setdefault(row["group"], []).append(row)
+    return [_settings_panel(group, rows, order) for order, (group, rows) in enumerate(groups.items(), start=1)]
+
+
+def register():
+    _Registered.panels = [BOUNCE_PT_load_error, *_settings_panels(), BOUNCE_PT_last_render, BOUNCE_PT_light_shadow]
+    for panel in _Registered.panels:
+        bpy.utils.register_class(panel)
+    for panel in _borrowed_panels():
+        if ENGINE_ID not in panel.COMPAT_ENGINES:
+            _add_engine(panel)
+
+
+def unregister():
+    for panel in _Registered.borrowed:
+        if panel in _Registered.copied:
+            del panel.COMPAT_ENGINES
+        else:
+            panel.COMPAT_ENGINES.discard(ENGINE_ID)
+    _Registered.borrowed, _Registered.copied = [], []
+    for panel in reversed(_Registered.panels):
+        bpy.utils.unregister_class(panel)
+    _Registered.panels = []

@@ -242,20 +242,26 @@ def cornell_blend(blender, shared_scenes):
 # ---- EXR reading ------------------------------------------------------------------------------------------
 
 def read_exr(path):
-    """{channel name: HxW float32 array} of a (multilayer) EXR; rows top first."""
+    """{channel name: HxW float32 array} of a (multilayer) EXR, every part of it (Blender 5 writes multilayer
+    EXRs as one part per pass unless use_exr_interleave is set); rows top first."""
     import numpy as np
     import OpenImageIO as oiio
 
     inp = oiio.ImageInput.open(str(path))
     if inp is None:
         raise AssertionError(f"cannot open {path}: {oiio.geterror()}")
+    channels = {}
     try:
-        spec = inp.spec()
-        pixels = inp.read_image(oiio.FLOAT)
+        subimage = 0
+        while inp.seek_subimage(subimage, 0):
+            spec = inp.spec()
+            pixels = np.asarray(inp.read_image(subimage, 0, 0, spec.nchannels, oiio.FLOAT), dtype=np.float32)
+            pixels = pixels.reshape(spec.height, spec.width, spec.nchannels)
+            channels.update({name: pixels[:, :, i] for i, name in enumerate(spec.channelnames)})
+            subimage += 1
     finally:
         inp.close()
-    pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
-    return {name: pixels[:, :, i] for i, name in enumerate(spec.channelnames)}
+    return channels
 
 
 class MissingChannels(Exception):

@@ -85,6 +85,8 @@ def step_setup():
     space.show_gizmo = False
     space.show_region_toolbar = False
     space.show_region_ui = False
+    # Headers overlap the drawing region from 4.x on (the frame is drawn under them, as Cycles does).
+    space.show_region_header = False
     if hasattr(space, "show_region_tool_header"):
         space.show_region_tool_header = False
     # A free perspective view (the camera view draws a frame line over the picture).

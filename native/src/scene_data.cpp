@@ -20,6 +20,23 @@ std::string key_name(const char* what, uint64_t key) { return std::string(what) 
 
 glm::dvec3 load3(const float* v) { return {v[0], v[1], v[2]}; }
 
+// Shadow cube maps are rendered and read in the light's frame, which must be orthonormal (a sheared or scaled
+// object matrix is not): Gram-Schmidt from -z (the emission axis), then x; world axes where degenerate.
+void orthonormalize_frame(BounceLight& light) {
+  glm::dvec3 z = load3(light.axis_z), x = load3(light.axis_x);
+  if (!(glm::length(z) > 1e-12)) z = {0, 0, 1};
+  z = glm::normalize(z);
+  x -= glm::dot(x, z) * z;
+  if (!(glm::length(x) > 1e-9)) x = glm::cross(std::abs(z.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0), z);
+  x = glm::normalize(x);
+  const glm::dvec3 y = glm::cross(z, x);
+  for (int i = 0; i < 3; ++i) {
+    light.axis_x[i] = static_cast<float>(x[i]);
+    light.axis_y[i] = static_cast<float>(y[i]);
+    light.axis_z[i] = static_cast<float>(z[i]);
+  }
+}
+
 }  // namespace
 
 std::shared_ptr<const MeshData> prepare_mesh(uint64_t key, const BounceMeshDesc& desc) {
@@ -139,6 +156,7 @@ LightList prepare_lights(uint32_t count, const BounceLight* lights) {
       continue;
     }
     for (float& c : light.intensity) c = std::max(c, 0.0f);
+    orthonormalize_frame(light);
     light.radius = std::max(light.radius, 0.0f);
     light.spot_half_angle = std::clamp(light.spot_half_angle, 0.0f, 3.14159265f);
     light.spot_blend = std::clamp(light.spot_blend, 0.0f, 1.0f);

@@ -38,7 +38,8 @@ ShadowCoord shadow_coord(vec3 p) {
   ShadowCoord c;
   c.outside = false;
   if (shadow_kind() == SHADOW_CUBE) {
-    c.at = p - light.shadow_origin.xyz;
+    vec3 v = p - light.shadow_origin.xyz;  // into the light's frame, in which the cube was rendered
+    c.at = vec3(dot(v, light.axis_x.xyz), dot(v, light.axis_y.xyz), dot(v, light.axis_z.xyz));
     c.distance = max(abs(c.at.x), max(abs(c.at.y), abs(c.at.z)));
     c.depth = shadow_depth_of_distance(c.distance);
     return c;

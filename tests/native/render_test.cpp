@@ -102,7 +102,14 @@ TEST_F(Render, ShadowsFallWhereGeometryPutsThem) {
   spot.spot_half_angle = 1.2f;
   BounceLight area = make_light(BOUNCE_LIGHT_AREA_RECT, {0, 0, 3}, glm::vec3(100.0f / 4e-4f));
   area.half_size[0] = area.half_size[1] = 0.01f;
-  for (const BounceLight& light : {point, spot, area}) {
+  // The same small area light with a rotated, scaled and sheared frame (the cube map lives in the light's frame,
+  // orthonormalised by the core).
+  BounceLight area_rotated = area;
+  const float c = std::cos(0.5f), s = std::sin(0.5f);
+  const float rotated_x[3] = {2 * c, 2 * s, 0}, rotated_y[3] = {-s + 0.3f * c, c + 0.3f * s, 0};
+  std::memcpy(area_rotated.axis_x, rotated_x, 12);
+  std::memcpy(area_rotated.axis_y, rotated_y, 12);
+  for (const BounceLight& light : {point, spot, area, area_rotated}) {
     set_lights({light});
     const Image image = render(BOUNCE_AOV_DIRECT);
     for (glm::vec2 shadowed : {glm::vec2(1.7f, 0.0f), glm::vec2(2.8f, 0.8f), glm::vec2(2.5f, -0.8f)}) {

@@ -156,6 +156,8 @@ void ShadowPass::prepare(const RenderContext& context, std::size_t index, const 
     StageScope scope(context.timer, Stage::Shadows);
     if (!map.depth || map.kind != kind || map.size != size) {
       map.depth = make_shadow_texture(kind, size);
+      const float far_depth = 1.0f;  // faces never rendered (behind an emitter) read as unoccluded
+      glClearTexImage(map.depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, &far_depth);
       gl::check("allocating a shadow map");
     }
     map.kind = kind;
@@ -188,17 +190,22 @@ void ShadowPass::prepare(const RenderContext& context, std::size_t index, const 
         face_view_projections[0] = glm::perspective(2.0f * half_fov, 1.0f, map.near_plane, map.far_plane) * view;
         map.texel_factor = 2.0f * std::tan(half_fov) / static_cast<float>(size);
       } else {
-        // Cube-map face order and up vectors of the GL convention (+X, -X, +Y, -Y, +Z, -Z).
+        // Cube-map face order and up vectors of the GL convention (+X, -X, +Y, -Y, +Z, -Z), in the light's own
+        // frame: the shaders look up directions expressed in that frame.
         static const glm::vec3 directions[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
         static const glm::vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+        const glm::mat3 frame(vec3_of(light.axis_x), vec3_of(light.axis_y), vec3_of(light.axis_z));
         const glm::mat4 projection = glm::perspective(0.5f * kPi, 1.0f, map.near_plane, map.far_plane);
         for (int f = 0; f < 6; ++f)
-          face_view_projections[f] = projection * glm::lookAt(origin, origin + directions[f], ups[f]);
+          face_view_projections[f] = projection * glm::lookAt(origin, origin + frame * directions[f], frame * ups[f]);
         map.texel_factor = 2.0f / static_cast<float>(size);
       }
     }
     map.view_projection = face_view_projections[0];
-    render(context, map, face_view_projections, faces);
+    // Area and spot lights emit along -z of their frame only (a spot cone is at most a hemisphere): the +z
+    // face of their cube is never lit, so it is not rendered.
+    const bool front_only = light.type != BOUNCE_LIGHT_POINT && kind == kShadowCube;
+    render(context, map, face_view_projections, faces, front_only ? 4 : -1);
   }
   glBindTextureUnit(kind == kShadowCube ? 7 : 6, map.depth.id());
   glBindTextureUnit(kind == kShadowCube ? 10 : 9, map.depth.id());
@@ -211,8 +218,8 @@ void ShadowPass::prepare(const RenderContext& context, std::size_t index, const 
   block.shadow_params[3] = map.far_plane;
 }
 
-void ShadowPass::render(const RenderContext& context, ShadowMap& map, const glm::mat4* face_view_projections,
-                        int faces) {
+void ShadowPass::render(const RenderContext& context, ShadowMap& map, const glm::mat4* face_view_projections, int faces,
+                        int skipped_face) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, map.size, map.size);
   glUseProgram(program_.id());
@@ -221,6 +228,7 @@ void ShadowPass::render(const RenderContext& context, ShadowMap& map, const glm:
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.0f, 1.0f);
   for (int face = 0; face < faces; ++face) {
+    if (face == skipped_face) continue;
     if (map.kind == kShadowCube)
       glNamedFramebufferTextureLayer(framebuffer_.id(), GL_DEPTH_ATTACHMENT, map.depth.id(), 0, face);
     else

@@ -2,7 +2,8 @@
 // changes. Shaders: shaders/shadows/shadow.vert, shaders/shadows/shadow.frag.
 //
 // Kinds: sun - orthographic, fitted to the scene's bounding sphere; spot - perspective over the cone (a cube
-// when the cone is wider than 150 degrees); point and area - a cube map.
+// when the cone is wider than 150 degrees); point and area - a cube map in the light's frame (area and spot
+// lights skip the face behind them).
 //
 // Soft shadows (a documented approximation): sample s renders the map from a point drawn uniformly on the
 // light (area: its rectangle or ellipse; point/spot: the ball of its radius; sun: the cone of its angular
@@ -60,7 +61,8 @@ class ShadowPass {
     float texel_factor = 0.0f, near_plane = 0.0f, far_plane = 0.0f;
   };
 
-  void render(const RenderContext& context, ShadowMap& map, const glm::mat4* face_view_projections, int faces);
+  void render(const RenderContext& context, ShadowMap& map, const glm::mat4* face_view_projections, int faces,
+              int skipped_face);
 
   gl::Program program_;
   gl::Framebuffer framebuffer_;

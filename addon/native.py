@@ -508,7 +508,8 @@ class Engine:
         return info
 
     def frame_read(self, aov, width, height, out=None):
-        """One AOV of the published frame as a (height*width, channels) float32 array, rows bottom first."""
+        """One AOV of the frame the last frame_info() described, as a (height*width, channels) float32 array, rows
+        bottom first."""
         channels = self.lib.aov_channels(aov)
         if channels <= 0:
             raise InvalidArgumentError(f"unknown AOV {aov}", 1)

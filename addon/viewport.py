@@ -54,12 +54,12 @@ def _draw_latest_frame(engine, context, current):
 
     info = current.engine.frame_info()
     if info is not None and info.serial != current.texture_serial:
-        pixels = _read_combined(current, info)
-        if pixels is not None:
-            flat = pixels.reshape(-1)
-            buffer = gpu.types.Buffer("FLOAT", flat.size, flat)  # wraps the numpy memory, no copy
-            current.texture = gpu.types.GPUTexture((info.width, info.height), format="RGBA16F", data=buffer)
-            current.texture_serial = info.serial
+        # frame_read reads the frame `info` describes, even if a newer one (another size) is published meanwhile.
+        current.pixels = current.engine.frame_read(native.AOV_COMBINED, info.width, info.height, out=current.pixels)
+        flat = current.pixels.reshape(-1)
+        buffer = gpu.types.Buffer("FLOAT", flat.size, flat)  # wraps the numpy memory, no copy
+        current.texture = gpu.types.GPUTexture((info.width, info.height), format="RGBA16F", data=buffer)
+        current.texture_serial = info.serial
     if current.texture is None:
         return
 
@@ -71,19 +71,6 @@ def _draw_latest_frame(engine, context, current):
     finally:
         engine.unbind_display_space_shader()
         gpu.state.blend_set("NONE")
-
-
-def _read_combined(current, info):
-    """The Combined AOV of the frame `info` describes; None when a frame of another size was published between
-    the two calls (the view was resized): the next redraw reads that one."""
-    try:
-        current.pixels = current.engine.frame_read(native.AOV_COMBINED, info.width, info.height, out=current.pixels)
-    except native.InvalidArgumentError:
-        latest = current.engine.frame_info()
-        if latest is not None and (latest.width, latest.height) != (info.width, info.height):
-            return None
-        raise
-    return current.pixels
 
 
 def _emit(engine, reports):

@@ -187,6 +187,7 @@ void Engine::wait(int32_t timeout_ms) {
 BounceFrameInfo Engine::frame_info() {
   std::lock_guard lock(mutex_);
   if (!frame_) fail(BOUNCE_ERROR_NOT_READY, "no frame has been rendered yet");
+  described_ = frame_;
   return frame_->info;
 }
 
@@ -196,9 +197,9 @@ void Engine::frame_read(int32_t aov, float* dst, std::size_t float_count) {
   std::shared_ptr<const Frame> frame;
   {
     std::lock_guard lock(mutex_);
-    frame = frame_;
+    frame = described_;
   }
-  if (!frame) fail(BOUNCE_ERROR_NOT_READY, "no frame has been rendered yet");
+  if (!frame) fail(BOUNCE_ERROR_NOT_READY, "call bounce_frame_info first: no frame has been described yet");
   const std::vector<float>& values = frame->aovs[aov];
   require(float_count == values.size(), "frame_read: dst holds " + std::to_string(float_count) + " floats, the " +
                                             bounce_aov_name(aov) + " AOV has " + std::to_string(values.size()));

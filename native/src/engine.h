@@ -54,7 +54,8 @@ class Engine {
   BounceStatus render_status_ = BOUNCE_OK;
   std::string render_error_;
   std::string scene_error_;
-  std::shared_ptr<const Frame> frame_;
+  std::shared_ptr<const Frame> frame_;      // the latest published frame
+  std::shared_ptr<const Frame> described_;  // the frame the last frame_info() described, for frame_read()
   uint64_t frame_serial_ = 0;
 
   RenderThread thread_;  // last: joined first on destruction, while the state above still exists

@@ -347,3 +347,26 @@ TEST(EglPlatform, SurfacelessDeviceAndInvalid) {
 
 }  // namespace
 }  // namespace bounce::test
+
+namespace bounce::test {
+namespace {
+
+// A frame published between bounce_frame_info and bounce_frame_read (here: another size) does not change what
+// is read: the read returns the frame the info described.
+TEST_F(Render, FrameReadReadsTheDescribedFrame) {
+  build_shadow_scene();
+  render();
+  BounceFrameInfo first{};
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &first));
+  camera_.width = 40;
+  camera_.height = 30;
+  ASSERT_BOUNCE_OK(bounce_render_start(engine_, &settings_, &camera_));
+  ASSERT_BOUNCE_OK(bounce_render_wait(engine_, -1));
+  std::vector<float> pixels(std::size_t(first.width) * first.height * 4);
+  EXPECT_EQ(bounce_frame_read(engine_, BOUNCE_AOV_COMBINED, pixels.data(), pixels.size()), BOUNCE_OK)
+      << bounce_last_error();
+  EXPECT_EQ(read(BOUNCE_AOV_COMBINED).width, 40);
+}
+
+}  // namespace
+}  // namespace bounce::test

@@ -278,10 +278,13 @@ typedef struct BounceFrameInfo {
   uint64_t nonfinite_pixels; /* pixels whose value was NaN/Inf before being zeroed (should be 0) */
 } BounceFrameInfo;
 
-/* The most recently published frame: after each progressive sample of a render (viewport) and at its end. */
+/* The most recently published frame: after each progressive sample of a render (viewport) and at its end.
+ * The engine keeps that frame for bounce_frame_read until the next bounce_frame_info call. */
 BOUNCE_API BounceStatus bounce_frame_info(BounceEngine* engine, BounceFrameInfo* out);
-/* Copies one AOV of the published frame, rows bottom first, channels interleaved: dst holds
- * width * height * bounce_aov_channels(aov) floats. BOUNCE_ERROR_NOT_READY when nothing is published. */
+/* Copies one AOV of the frame the last bounce_frame_info call described (so a frame published in between, e.g.
+ * of another size after a viewport resize, does not change what is read), rows bottom first, channels
+ * interleaved: dst holds width * height * bounce_aov_channels(aov) floats. BOUNCE_ERROR_NOT_READY when
+ * bounce_frame_info has not returned a frame yet. */
 BOUNCE_API BounceStatus bounce_frame_read(BounceEngine* engine, int32_t aov, float* dst, size_t float_count);
 
 #ifdef __cplusplus

@@ -90,7 +90,7 @@ def _principled(node):
     desc = SurfaceDesc(base_color=color, image=image, emission=emission)
     alpha_input = node.inputs["Alpha"]
     if alpha_input.is_linked:
-        _set_cutout(desc, _texture_alpha(alpha_input))
+        _set_cutout(desc, alpha_input)
     else:
         desc.alpha = float(alpha_input.default_value)
     return desc
@@ -106,21 +106,32 @@ def _mix_shader(node):
     if first_node is None or first_node.type != "BSDF_TRANSPARENT" or second_node is None:
         raise _NotUnderstood(f"Mix Shader '{node.name}' is not a Transparent BSDF cut-out")
     desc = _describe_shader(second_node)
-    fac_node, _ = _upstream(fac)
-    if fac_node is not None and fac_node.type == "MATH" and fac_node.operation == "GREATER_THAN" \
-            and not fac_node.inputs[1].is_linked:
-        _set_cutout(desc, _texture_alpha(fac_node.inputs[0]))
-        desc.alpha_threshold = float(fac_node.inputs[1].default_value)
-    else:
-        _set_cutout(desc, _texture_alpha(fac))
+    _set_cutout(desc, fac)
     return desc
 
 
-def _set_cutout(desc, alpha_image):
-    """Make `desc` a cut-out by the alpha of `alpha_image`: the core reads alpha from the base-colour texture."""
+def _set_cutout(desc, socket):
+    """Make `desc` a cut-out by the texture alpha that feeds `socket`, directly or through alpha > threshold
+    steps: the core reads alpha from the base-colour texture and compares it with the threshold.
+
+    A step of a 0/1 step is the same step when its threshold is in [0, 1): Blender 4.2+ inserts such a Math
+    node when it versions alpha-clip materials (blend mode CLIP was removed), so chains of them are walked and
+    the innermost threshold is the one that counts."""
+    threshold = None
+    node, _ = _upstream(socket)
+    while node is not None and node.type == "MATH" and node.operation == "GREATER_THAN" \
+            and not node.inputs[1].is_linked and not getattr(node, "use_clamp", False):
+        if threshold is not None and not 0.0 <= threshold < 1.0:
+            raise _NotUnderstood(f"Math node '{node.name}' is followed by a step at {threshold}, not in [0, 1)")
+        threshold = float(node.inputs[1].default_value)
+        socket = node.inputs[0]
+        node, _ = _upstream(socket)
+    alpha_image = _texture_alpha(socket)
     if desc.image is None or desc.image.original != alpha_image.original:
         raise _NotUnderstood("the cut-out alpha comes from another image than the base colour")
     desc.alpha_from_texture = True
+    if threshold is not None:
+        desc.alpha_threshold = threshold
 
 
 def _texture_alpha(socket):

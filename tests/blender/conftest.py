@@ -217,26 +217,38 @@ def file_digest(*paths):
 CORNELL_RES = 128
 
 
-@pytest.fixture(scope="session")
-def cornell_blend(blender, shared_scenes):
-    """shared/scenes/setups/cornell.py's scene at CORNELL_RES, built once per setup version.
+def build_setup_scene(blender, shared_scenes, name, data_files, args):
+    """A .blend built by shared/scenes/setups/NAME.py, once per setup version and arguments.
 
     Always built with the host's Blender (3.4) and opened by every version: the setup scripts use
     Material.shadow_method, which Blender 4.2 removed, so they fail in the chroots' Blender 4.3 / 5.2."""
     setup = shared_scenes / "setups"
-    key = file_digest(setup / "cornell.py", setup / "common.py",
-                      shared_scenes / "cornell_box" / "CornellBox-Original.obj")
+    key = file_digest(setup / f"{name}.py", setup / "common.py", *(shared_scenes / f for f in data_files))
     directory = BUILD / "blender-cache" / "scenes"
     directory.mkdir(parents=True, exist_ok=True)
-    path = directory / f"cornell-{CORNELL_RES}-{key}.blend"
+    path = directory / f"{name}-{'-'.join(map(str, args))}-{key}.blend"
     if not path.is_file():
         tmp = path.with_suffix(".tmp.blend")
         host = Blender(None)
         host.log_dir = blender.log_dir
-        host.run(["--python", str(setup / "cornell.py"), "--", "--out", str(tmp), "--res", str(CORNELL_RES)],
-                 name="cornell-setup", addon=False)
+        host.run(["--python", str(setup / f"{name}.py"), "--", "--out", str(tmp)] + [str(a) for a in args],
+                 name=f"{name}-setup", addon=False)
         tmp.rename(path)
     return path
+
+
+@pytest.fixture(scope="session")
+def cornell_blend(blender, shared_scenes):
+    """shared/scenes/setups/cornell.py's scene at CORNELL_RES."""
+    return build_setup_scene(blender, shared_scenes, "cornell", ["cornell_box/CornellBox-Original.obj"],
+                             ["--res", CORNELL_RES])
+
+
+@pytest.fixture(scope="session")
+def sponza_blend(blender, shared_scenes):
+    """shared/scenes/setups/sponza.py's scene (Crytek Sponza: textures, alpha cut-outs, instances) at 160x90."""
+    return build_setup_scene(blender, shared_scenes, "sponza", ["crytek_sponza/Sponza.gltf"],
+                             ["--width", 160, "--height", 90])
 
 
 # ---- EXR reading ------------------------------------------------------------------------------------------

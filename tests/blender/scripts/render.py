@@ -6,6 +6,8 @@ oracle of DESIGN.md ("Cycles as an oracle").
 CONFIG: {"out": "/path/base" (Blender adds .exr), "engine": "BOUNCE" | "CYCLES",
          "scene": optional "demo" (bpy.ops.bounce.demo_scene into a new scene),
          "resolution": optional int (square), "bounce": {setting: value}, "cycles": {"samples": N, "bounces": k},
+         "camera": optional {"type": "PERSP" | "ORTHO", "ortho_scale", "sensor_fit", "shift_x", "shift_y",
+                             "size": [w, h], "border": [min_x, min_y, max_x, max_y], "crop": bool},
          "info": optional path of a JSON file receiving what was rendered}
 """
 import os
@@ -47,6 +49,21 @@ def cycles_oracle(scene, samples, bounces, seed=0):
     scene.render.threads_mode = "AUTO"
 
 
+def apply_camera(scene, camera):
+    """Camera and framing options, to check that Bounce frames the image exactly as Cycles does."""
+    data = scene.camera.data
+    for name in ("type", "ortho_scale", "sensor_fit", "shift_x", "shift_y"):
+        if name in camera:
+            setattr(data, name, camera[name])
+    if "size" in camera:
+        scene.render.resolution_x, scene.render.resolution_y = camera["size"]
+    if "border" in camera:
+        r = scene.render
+        r.use_border = True
+        r.border_min_x, r.border_min_y, r.border_max_x, r.border_max_y = camera["border"]
+        r.use_crop_to_border = camera.get("crop", True)
+
+
 def main():  # noqa: C901
     config = bc.load_json(bc.args()[0])
     if config.get("scene") == "demo":
@@ -57,6 +74,8 @@ def main():  # noqa: C901
         scene = bpy.context.scene
     if config.get("resolution"):
         bc.set_resolution(scene, config["resolution"], config["resolution"])
+    if config.get("camera"):
+        apply_camera(scene, config["camera"])
     bc.linear_output(scene)
     if config["engine"] == "CYCLES":
         cy = config.get("cycles", {})

@@ -196,7 +196,7 @@ TEST_F(Render, TextureAndAlphaCutOutInGBufferAndShadows) {
   EXPECT_NEAR(albedo.at(11, 16)[1], 0.0f, 1e-3f);
   EXPECT_NEAR(albedo.at(20, 16)[0], 0.5f, 1e-3f);
   EXPECT_NEAR(direct.at(20, 16)[0], 0.5f / kPi, 1e-3f) << "the hole must not cast a shadow";
-  // From below the floor (the floor is two-sided but cut away by the crop), the shadow of the opaque half.
+  // Re-sending the lights (the shadow maps are re-rendered) keeps the hole lit.
   set_lights({make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(1.0f))});
   const Image floor_only = render(BOUNCE_AOV_DIRECT);
   EXPECT_NEAR(floor_only.at(20, 16)[0], 0.5f / kPi, 1e-3f);

@@ -11,10 +11,12 @@ from .properties import fill_settings
 PASSES = (
     (native.AOV_COMBINED, "Combined", "RGBA", "COLOR"),
     (native.AOV_DIRECT, "Direct", "RGB", "COLOR"),
+    (native.AOV_INDIRECT, "Indirect", "RGB", "COLOR"),
     (native.AOV_EMISSION, "Emission", "RGB", "COLOR"),
     (native.AOV_ALBEDO, "Albedo", "RGB", "COLOR"),
     (native.AOV_NORMAL, "Normal", "XYZ", "VECTOR"),
     (native.AOV_DEPTH, "Depth", "Z", "VALUE"),
+    (native.AOV_VPL_LEVELS, "VPL Levels", "RGB", "COLOR"),
 )
 _AOV_BY_PASS = {name: aov for aov, name, _, _ in PASSES}
 

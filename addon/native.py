@@ -91,7 +91,9 @@ AOV_EMISSION = 2
 AOV_ALBEDO = 3
 AOV_NORMAL = 4
 AOV_DEPTH = 5
-AOV_COUNT = 6
+AOV_INDIRECT = 6
+AOV_VPL_LEVELS = 7
+AOV_COUNT = 8
 
 RENDER_IDLE = 0
 RENDER_RUNNING = 1
@@ -208,7 +210,9 @@ class FrameInfo(ctypes.Structure):
                 ("serial", _u64),
                 ("stage_count", _i32),
                 ("stages", StageTime * MAX_STAGES),
-                ("nonfinite_pixels", _u64)]
+                ("nonfinite_pixels", _u64),
+                ("vpl_count", _u64),
+                ("divergent_triangles", _u64)]
 
     def stage_list(self):
         """[(name, gpu_ms, cpu_ms), ...] of the stages filled in."""

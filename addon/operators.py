@@ -1,7 +1,7 @@
 """Bounce's operators."""
 import bpy
 
-from . import demo
+from . import demo, presets
 
 
 class BOUNCE_OT_demo_scene(bpy.types.Operator):
@@ -25,7 +25,7 @@ class BOUNCE_OT_demo_scene(bpy.types.Operator):
         return {"FINISHED"}
 
 
-CLASSES = (BOUNCE_OT_demo_scene,)
+CLASSES = (BOUNCE_OT_demo_scene, presets.BOUNCE_OT_apply_preset)
 
 
 def _render_menu_entry(menu, _context):

@@ -1,7 +1,7 @@
 """Bounce's panels in the Render properties, and Blender's own light/material/world panels enabled for Bounce."""
 import bpy
 
-from . import final, native
+from . import final, native, presets
 from .engine import BounceRenderEngine
 from .export.lights import shadow_property
 from .properties import VIEWPORT_PREFIX, has_viewport_variant, settings_table
@@ -119,6 +119,7 @@ def _settings_panel(group, rows, order):
         layout = self.layout
         layout.use_property_split = True
         layout.use_property_decorate = False
+        presets.draw_buttons(layout, group)
         if has_pairs:
             _labels, values = _label_split(layout)
             values.label(text="Render")

@@ -138,6 +138,8 @@ int32_t bounce_aov_channels(int32_t aov) {
     case BOUNCE_AOV_EMISSION:
     case BOUNCE_AOV_ALBEDO:
     case BOUNCE_AOV_NORMAL:
+    case BOUNCE_AOV_INDIRECT:
+    case BOUNCE_AOV_VPL_LEVELS:
       return 3;
     case BOUNCE_AOV_DEPTH:
       return 1;
@@ -147,7 +149,8 @@ int32_t bounce_aov_channels(int32_t aov) {
 }
 
 const char* bounce_aov_name(int32_t aov) {
-  static const char* const names[BOUNCE_AOV_COUNT] = {"Combined", "Direct", "Emission", "Albedo", "Normal", "Depth"};
+  static const char* const names[BOUNCE_AOV_COUNT] = {"Combined", "Direct", "Emission", "Albedo",
+                                                      "Normal",   "Depth",  "Indirect", "VPL Levels"};
   return aov >= 0 && aov < BOUNCE_AOV_COUNT ? names[aov] : "";
 }
 

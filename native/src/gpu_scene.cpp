@@ -47,10 +47,12 @@ GpuScene::GpuScene() {
   glEnableVertexArrayAttrib(id, 0);
   glEnableVertexArrayAttrib(id, 1);
   glEnableVertexArrayAttrib(id, 2);
+  glEnableVertexArrayAttrib(id, 3);
   glVertexArrayAttribFormat(id, 0, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
   glVertexArrayAttribFormat(id, 1, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, normal));
   glVertexArrayAttribFormat(id, 2, 2, GL_FLOAT, GL_FALSE, offsetof(Vertex, uv));
-  for (GLuint a = 0; a < 3; ++a) glVertexArrayAttribBinding(id, a, 0);
+  glVertexArrayAttribIFormat(id, 3, 1, GL_UNSIGNED_INT, offsetof(Vertex, random));
+  for (GLuint a = 0; a < 4; ++a) glVertexArrayAttribBinding(id, a, 0);
   white_texture_ = gl::make_texture_2d(GL_RGBA8, 1, 1);
   const unsigned char white[4] = {255, 255, 255, 255};
   glTextureSubImage2D(white_texture_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white);

@@ -66,8 +66,12 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
       count += compose_.read(aov, samples_done, into.aovs[aov].data(), into.width, tile.x - x0, tile.y - y0);
     return count;
   };
+  const bool flc = settings.method == BOUNCE_METHOD_FLC;
+  uint32_t vpl_count = 0, divergent_count = 0;
   auto finish_info = [&](Frame& into, int samples_done) {
     timer_.resolve();
+    into.info.vpl_count = vpl_count;
+    into.info.divergent_triangles = divergent_count;
     into.info.width = into.width;
     into.info.height = into.height;
     into.info.samples = samples_done;
@@ -97,8 +101,18 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
           static_cast<uint32_t>(s),
           seed};
       gbuffer_.execute(context);
-      direct_.execute(context, gbuffer_.gbuffer(), shadows_);
-      compose_.accumulate(context, gbuffer_.gbuffer(), direct_.output());
+      if (flc) {
+        flc_.generate(context);
+        direct_.execute(context, gbuffer_.gbuffer(), shadows_, [&] { flc_.add_light(context); });
+        flc_.shade(context, gbuffer_.gbuffer());
+        vpl_count = flc_.vpl_count();
+        divergent_count = flc_.divergent_count();
+      } else {
+        direct_.execute(context, gbuffer_.gbuffer(), shadows_);
+      }
+      const bool indirect = flc && flc_.active();
+      compose_.accumulate(context, gbuffer_.gbuffer(), direct_.output(), indirect ? flc_.indirect() : 0,
+                          indirect ? flc_.levels() : 0);
       gl::check("rendering a sample");
       timer_.resolve();
       const int done = static_cast<int>(t) * samples + s + 1;

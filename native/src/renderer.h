@@ -1,5 +1,6 @@
 // Renders a frame on the render thread: tiles of at most settings.tile_size pixels, each the average of
-// settings.samples progressive samples; a sample runs G-buffer -> shadows + direct (per light) -> compose.
+// settings.samples progressive samples; a sample runs G-buffer -> [FLC VPLs] -> shadows + direct (+ FLC VPL
+// lighting) per light -> [FLC splat] -> compose.
 #pragma once
 
 #include <functional>
@@ -12,6 +13,7 @@
 #include "gpu_scene.h"
 #include "passes/compose/compose_pass.h"
 #include "passes/direct/direct_pass.h"
+#include "passes/flc/flc_pass.h"
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/shadows/shadow_pass.h"
 #include "stage_timer.h"
@@ -42,6 +44,7 @@ class Renderer {
   GBufferPass gbuffer_;
   ShadowPass shadows_;
   DirectPass direct_;
+  FlcPass flc_;
   ComposePass compose_;
 };
 

@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "error.h"
+#include "sampling.h"
 
 namespace bounce {
 
@@ -81,6 +82,7 @@ std::shared_ptr<const MeshData> prepare_mesh(uint64_t key, const BounceMeshDesc&
     for (int c = 0; c < 3; ++c) {
       Vertex v{};
       std::memcpy(v.position, p[c], sizeof v.position);
+      v.random = pcg_hash(tri[c] ^ 0xa511e9b3u);
       glm::vec3 normal = face_normal;
       if (desc.corner_normals) {
         const float* cn = desc.corner_normals + 9ull * t + 3ull * c;

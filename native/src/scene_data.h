@@ -18,6 +18,9 @@ struct Vertex {
   float position[3];
   float normal[3];
   float uv[2];
+  // Forward Light Cuts' v_rand (paper Sec. 6): uniform, fixed per original vertex index, so a triangle's
+  // random stays the same while the mesh keeps its topology, whatever its positions do.
+  uint32_t random;
 };
 
 struct SubMesh {  // triangles of one material slot, contiguous in the vertex array

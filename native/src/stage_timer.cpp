@@ -12,6 +12,16 @@ const char* stage_name(Stage stage) {
       return "Shadows";
     case Stage::Direct:
       return "Direct";
+    case Stage::FlcRegular:
+      return "FLC regular";
+    case Stage::FlcDivergent:
+      return "FLC divergent";
+    case Stage::FlcLighting:
+      return "FLC VPL lighting";
+    case Stage::FlcSplat:
+      return "FLC splat";
+    case Stage::FlcResolve:
+      return "FLC untile + blur";
     case Stage::Compose:
       return "Compose";
     case Stage::Readback:
@@ -22,6 +32,7 @@ const char* stage_name(Stage stage) {
 }
 
 void StageTimer::begin(Stage stage) {
+  used_[static_cast<int>(stage)] = true;
   gl::Query query;
   if (!free_.empty()) {
     query = std::move(free_.back());
@@ -58,14 +69,17 @@ void StageTimer::reset() {
   resolve();
   gpu_ms_.fill(0.0);
   cpu_ms_.fill(0.0);
+  used_.fill(false);
 }
 
 void StageTimer::fill(BounceFrameInfo& info) const {
-  info.stage_count = static_cast<int32_t>(Stage::Count);
-  for (int i = 0; i < info.stage_count; ++i) {
-    std::strncpy(info.stages[i].name, stage_name(static_cast<Stage>(i)), sizeof info.stages[i].name - 1);
-    info.stages[i].gpu_ms = gpu_ms_[i];
-    info.stages[i].cpu_ms = cpu_ms_[i];
+  info.stage_count = 0;
+  for (int i = 0; i < static_cast<int>(Stage::Count); ++i) {
+    if (!used_[i]) continue;
+    BounceStageTime& out = info.stages[info.stage_count++];
+    std::strncpy(out.name, stage_name(static_cast<Stage>(i)), sizeof out.name - 1);
+    out.gpu_ms = gpu_ms_[i];
+    out.cpu_ms = cpu_ms_[i];
   }
 }
 

@@ -10,7 +10,19 @@
 
 namespace bounce {
 
-enum class Stage { GBuffer, Shadows, Direct, Compose, Readback, Count };
+enum class Stage {
+  GBuffer,
+  Shadows,
+  Direct,
+  FlcRegular,    // Forward Light Cuts: regular pipeline (decimation, partition, VPLs)
+  FlcDivergent,  // subdivision of the divergent triangles
+  FlcLighting,   // direct irradiance at the VPLs
+  FlcSplat,      // splatting into the interleaved sub-images
+  FlcResolve,    // untiling and blur
+  Compose,
+  Readback,
+  Count
+};
 
 const char* stage_name(Stage stage);
 
@@ -30,6 +42,7 @@ class StageTimer {
   std::vector<Pending> pending_;
   std::vector<gl::Query> free_;
   std::array<double, static_cast<int>(Stage::Count)> gpu_ms_{}, cpu_ms_{};
+  std::array<bool, static_cast<int>(Stage::Count)> used_{};  // only stages that ran are reported
   Stage current_ = Stage::Count;
   std::chrono::steady_clock::time_point started_;
 };

@@ -1,5 +1,5 @@
 """(e) Render passes of an F12-equivalent render (bpy.ops.render.render(write_still=True), OPEN_EXR_MULTILAYER):
-Combined, Direct, Emission, Albedo, Normal, Depth, with sane values."""
+Combined, Direct, Indirect, Emission, Albedo, Normal, Depth, VPL Levels, with sane values."""
 import json
 
 import numpy as np
@@ -7,7 +7,8 @@ import pytest
 
 from conftest import layer_pass, read_exr, record
 
-PASSES = {"Combined": "RGBA", "Direct": "RGB", "Emission": "RGB", "Albedo": "RGB", "Normal": "XYZ", "Depth": "Z"}
+PASSES = {"Combined": "RGBA", "Direct": "RGB", "Indirect": "RGB", "Emission": "RGB", "Albedo": "RGB", "Normal": "XYZ",
+          "Depth": "Z", "VPL Levels": "RGB"}
 
 # OBJ Kd of the Cornell walls and the normals (Blender axes) of their visible sides.
 WALLS = {
@@ -57,7 +58,9 @@ def test_pass_values(cornell_passes):
     depth = layer_pass(ch, "Depth", "Z")[..., 0]
     assert np.all(combined[..., 3] == 1.0), "alpha 1 everywhere (opaque world)"
     assert np.all(emission == 0.0), "no emissive surface in the Cornell box"
-    np.testing.assert_allclose(combined[..., :3], direct + emission, atol=1e-5)
+    indirect = layer_pass(ch, "Indirect")
+    np.testing.assert_allclose(combined[..., :3], direct + indirect + emission, atol=1e-5)
+    assert np.all(indirect == 0.0), "the default method (Auto) renders direct light only, for now"
     assert np.all(depth > 0.0), "Depth must be positive"
     geometry = depth < 1e9
     assert geometry.mean() > 0.95, "the box fills the frame"

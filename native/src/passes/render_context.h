@@ -26,6 +26,9 @@ struct RenderContext {
   uint32_t seed;    // settings.seed mixed with the frame number
 };
 
+// A vertex array with no attributes, for draws whose shaders fetch their own data (render thread only).
+GLuint empty_vertex_array();
+
 // Draws the fullscreen triangle of shaders/common/fullscreen.vert.
 void draw_fullscreen_triangle();
 

@@ -28,16 +28,20 @@ void ComposePass::clear(int width, int height) {
     glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, aov, aov == BOUNCE_AOV_DEPTH ? background_depth : zero);
 }
 
-void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct) {
+void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct, GLuint indirect,
+                             GLuint vpl_levels) {
   StageScope scope(context.timer, Stage::Compose);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, context.width, context.height);
   gbuffer.bind_for_reading();
   glBindTextureUnit(8, direct);
+  glBindTextureUnit(11, indirect);
+  glBindTextureUnit(12, vpl_levels);
   glUseProgram(program_.id());
   const BounceWorld& world = context.scene.world();
   glUniform3fv(0, 1, world.background);
   glUniform1f(1, world.transparent ? 0.0f : 1.0f);
+  glUniform1i(2, indirect != 0);
   glEnable(GL_BLEND);
   for (GLuint aov = 0; aov < BOUNCE_AOV_COUNT; ++aov) {
     glBlendFunci(aov, GL_ONE, GL_ONE);

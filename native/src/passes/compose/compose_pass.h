@@ -15,7 +15,9 @@ class ComposePass {
  public:
   ComposePass();
   void clear(int width, int height);
-  void accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct);
+  // `indirect` and `vpl_levels` are 0 when no indirect method ran.
+  void accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct, GLuint indirect,
+                  GLuint vpl_levels);
   // Averages `samples` accumulated samples of AOV `aov` into dst (width * height * channels floats) at the
   // pixel offset (x, y) of a frame `frame_width` wide; returns how many values were not finite (set to 0).
   uint64_t read(int aov, int samples, float* frame, int frame_width, int x, int y) const;

@@ -30,7 +30,8 @@ DirectPass::DirectPass()
           {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "direct/direct.frag"}})),
       light_buffer_(gl::make_buffer(sizeof(LightBlock), nullptr)) {}
 
-void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, ShadowPass& shadows) {
+void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, ShadowPass& shadows,
+                         const std::function<void()>& after_light) {
   if (width_ != context.width || height_ != context.height) {
     direct_ = gl::make_texture_2d(GL_RGBA32F, context.width, context.height);
     framebuffer_ = gl::make_framebuffer({direct_.id()}, 0);
@@ -44,18 +45,21 @@ void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, S
   for (std::size_t i = 0; i < lights.size(); ++i) {
     LightBlock block = make_light_block(lights[i]);
     shadows.prepare(context, i, lights[i], block);
-    StageScope scope(context.timer, Stage::Direct);
-    glNamedBufferSubData(light_buffer_.id(), 0, sizeof block, &block);
-    glBindBufferBase(GL_UNIFORM_BUFFER, binding::kLightBlock, light_buffer_.id());
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
-    glViewport(0, 0, context.width, context.height);
-    gbuffer.bind_for_reading();
-    glUseProgram(program_.id());
-    glUniform2i(0, context.tile_origin.x, context.tile_origin.y);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    draw_fullscreen_triangle();
-    glDisable(GL_BLEND);
+    {
+      StageScope scope(context.timer, Stage::Direct);
+      glNamedBufferSubData(light_buffer_.id(), 0, sizeof block, &block);
+      glBindBufferBase(GL_UNIFORM_BUFFER, binding::kLightBlock, light_buffer_.id());
+      glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+      glViewport(0, 0, context.width, context.height);
+      gbuffer.bind_for_reading();
+      glUseProgram(program_.id());
+      glUniform2i(0, context.tile_origin.x, context.tile_origin.y);
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE);
+      draw_fullscreen_triangle();
+      glDisable(GL_BLEND);
+    }
+    if (after_light) after_light();
   }
 }
 

@@ -4,6 +4,8 @@
 // shaders/common/lights.glsl.
 #pragma once
 
+#include <functional>
+
 #include "gl/objects.h"
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/render_context.h"
@@ -16,7 +18,10 @@ LightBlock make_light_block(const BounceLight& light);
 class DirectPass {
  public:
   DirectPass();
-  void execute(const RenderContext& context, const GBuffer& gbuffer, ShadowPass& shadows);
+  // `after_light` runs after each light's draw, with that light's LightBlock and shadow map still bound, so
+  // other passes can use them (Forward Light Cuts lights its VPLs there).
+  void execute(const RenderContext& context, const GBuffer& gbuffer, ShadowPass& shadows,
+               const std::function<void()>& after_light = {});
   GLuint output() const { return direct_.id(); }  // RGBA32F
 
  private:

@@ -1,0 +1,274 @@
+#include "passes/flc/flc_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "error.h"
+#include "gl/shader.h"
+#include "passes/flc/flc_math.h"
+#include "sampling.h"
+
+namespace bounce {
+
+namespace {
+
+constexpr GLuint kParamsBlock = 5;
+constexpr GLuint kCountersBinding = 6;
+constexpr GLuint kVplsBinding = 7;
+constexpr GLuint kDivergentsBinding = 8;
+constexpr GLuint kNoiseUnit = 11;
+constexpr GLuint kSourceUnit = 12;
+constexpr GLintptr kVplDrawOffset = 0;
+constexpr GLintptr kDivergentDrawOffset = 4 * sizeof(uint32_t);
+constexpr int kNoiseSize = 256;
+constexpr std::size_t kVplBytes = 5 * 4 * sizeof(float);
+constexpr std::size_t kDivergentBytes = 4 * 4 * sizeof(float);
+constexpr uint32_t kInitialVplCapacity = 1u << 16;
+constexpr uint32_t kInitialDivergentCapacity = 1u << 12;
+constexpr int kMaxRegrowths = 8;
+
+uint32_t grown(uint32_t capacity, uint64_t needed) {
+  uint64_t next = std::max<uint64_t>(2ull * capacity, needed + needed / 4);
+  if (next > (1ull << 28)) fail(BOUNCE_ERROR_OUT_OF_MEMORY, "Forward Light Cuts needs more than 2^28 VPLs");
+  return static_cast<uint32_t>(next);
+}
+
+}  // namespace
+
+FlcParams make_flc_params(const BounceSettings& settings, float scene_radius, int width, int height, uint32_t seed,
+                          uint32_t sample) {
+  FlcParams p{};
+  const float near = settings.flc_near_distance * scene_radius;
+  p.s0 = 4.0f * 3.14159265f * near * near / static_cast<float>(std::max(settings.flc_vpls_per_pixel, 1));  // Eq. 1
+  p.mu = std::max(settings.flc_mu, 1.0001f);
+  p.levels = std::clamp(settings.flc_levels, 0, 16);
+  p.inverse_cumulative_n = flc::flc_inverse_cumulative_area(p.s0, p.mu, p.levels);
+  p.epsilon = settings.flc_epsilon * scene_radius;
+  p.tiles_per_axis = 1 << std::clamp(settings.flc_tiling, 0, 4);
+  p.jitter = settings.flc_jitter;
+  p.divergent = settings.flc_divergent;
+  p.u_rand = hash_combine(seed, 0x464c4300u + sample);  // Alg. 2: new every progressive sample
+  p.image_width = width;
+  p.image_height = height;
+  p.tile_width = (width + p.tiles_per_axis - 1) / p.tiles_per_axis;
+  p.tile_height = (height + p.tiles_per_axis - 1) / p.tiles_per_axis;
+  p.scene_radius = scene_radius;
+  p.d0 = near;
+  return p;
+}
+
+FlcPass::FlcPass()
+    : regular_(gl::build_program(
+          {{GL_VERTEX_SHADER, "flc/flc_generate.vert"}, {GL_GEOMETRY_SHADER, "flc/flc_generate.geom"}})),
+      divergent_(gl::build_program({{GL_VERTEX_SHADER, "flc/flc_divergent.vert"},
+                                    {GL_TESS_CONTROL_SHADER, "flc/flc_divergent.tesc"},
+                                    {GL_TESS_EVALUATION_SHADER, "flc/flc_divergent.tese"},
+                                    {GL_GEOMETRY_SHADER, "flc/flc_divergent.geom"}})),
+      lighting_(gl::build_program({{GL_COMPUTE_SHADER, "flc/flc_light.comp"}})),
+      splat_(gl::build_program({{GL_VERTEX_SHADER, "flc/flc_splat.vert"},
+                                {GL_GEOMETRY_SHADER, "flc/flc_splat.geom"},
+                                {GL_FRAGMENT_SHADER, "flc/flc_splat.frag"}})),
+      untile_(gl::build_program(
+          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "flc/flc_untile.frag"}})),
+      blur_(
+          gl::build_program({{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "flc/flc_blur.frag"}})),
+      levels_program_(
+          gl::build_program({{GL_VERTEX_SHADER, "flc/flc_levels.vert"}, {GL_FRAGMENT_SHADER, "flc/flc_levels.frag"}})),
+      params_buffer_(gl::make_buffer(sizeof(FlcParams), nullptr)),
+      counters_(gl::make_buffer(sizeof(Counters), nullptr)) {
+  // Alg. 2's noise texture: one uniform uint32 per texel.
+  std::vector<uint32_t> noise(std::size_t(kNoiseSize) * kNoiseSize);
+  for (std::size_t i = 0; i < noise.size(); ++i) noise[i] = pcg_hash(static_cast<uint32_t>(i) ^ 0x3c6ef372u);
+  noise_ = gl::make_texture_2d(GL_R32UI, kNoiseSize, kNoiseSize);
+  glTextureSubImage2D(noise_.id(), 0, 0, 0, kNoiseSize, kNoiseSize, GL_RED_INTEGER, GL_UNSIGNED_INT, noise.data());
+  glTextureParameteri(noise_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(noise_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  gl::check("creating the Forward Light Cuts pass");
+}
+
+void FlcPass::generate(const RenderContext& context) {
+  vpl_count_ = divergent_count_ = 0;
+  const glm::vec3 extent = context.scene.bounds_max() - context.scene.bounds_min();
+  const float scene_radius = 0.5f * glm::length(extent);
+  if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
+  params_ =
+      make_flc_params(context.settings, scene_radius, context.width, context.height, context.seed, context.sample);
+  GLint max_tess_level = 64;
+  glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_tess_level);
+  params_.max_tess_level = static_cast<float>(max_tess_level);
+  if (!vpls_) {
+    vpl_capacity_ = kInitialVplCapacity;
+    divergent_capacity_ = kInitialDivergentCapacity;
+    vpls_ = gl::make_buffer(vpl_capacity_ * kVplBytes, nullptr, 0);
+    divergents_ = gl::make_buffer(divergent_capacity_ * kDivergentBytes, nullptr, 0);
+  }
+  // The counts are read back once per sample: they size the lighting dispatch and tell when a buffer was too
+  // small, in which case it grows and the sample's VPLs are generated again (the same ones: same randoms).
+  for (int attempt = 0;; ++attempt) {
+    run_pipelines(context);
+    Counters counters{};
+    glGetNamedBufferSubData(counters_.id(), 0, sizeof counters, &counters);
+    if (counters.vpl_overflow == 0 && counters.divergent_overflow == 0) {
+      vpl_count_ = counters.vpl_draw[0];
+      divergent_count_ = counters.divergent_draw[0] / 3;
+      break;
+    }
+    if (attempt == kMaxRegrowths) fail(BOUNCE_ERROR_INTERNAL, "Forward Light Cuts: VPL buffers kept overflowing");
+    if (counters.divergent_overflow) {
+      divergent_capacity_ = grown(divergent_capacity_, divergent_capacity_ + uint64_t(counters.divergent_overflow));
+      divergents_ = gl::make_buffer(divergent_capacity_ * kDivergentBytes, nullptr, 0);
+    }
+    if (counters.vpl_overflow) {
+      vpl_capacity_ = grown(vpl_capacity_, vpl_capacity_ + uint64_t(counters.vpl_overflow));
+      vpls_ = gl::make_buffer(std::size_t(vpl_capacity_) * kVplBytes, nullptr, 0);
+    }
+    gl::check("growing the Forward Light Cuts buffers");
+  }
+}
+
+void FlcPass::run_pipelines(const RenderContext& context) {
+  params_.vpl_capacity = vpl_capacity_;
+  params_.divergent_capacity = divergent_capacity_;
+  glNamedBufferSubData(params_buffer_.id(), 0, sizeof params_, &params_);
+  const Counters reset{{0, 1, 0, 0}, {0, 1, 0, 0}, 0, 0};
+  glNamedBufferSubData(counters_.id(), 0, sizeof reset, &reset);
+  glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCountersBinding, counters_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplsBinding, vpls_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDivergentsBinding, divergents_.id());
+  glEnable(GL_RASTERIZER_DISCARD);
+  {
+    StageScope scope(context.timer, Stage::FlcRegular);
+    glUseProgram(regular_.id());
+    context.scene.draw();
+  }
+  if (params_.divergent) {
+    StageScope scope(context.timer, Stage::FlcDivergent);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    glUseProgram(divergent_.id());
+    glBindTextureUnit(kNoiseUnit, noise_.id());
+    glBindVertexArray(empty_vertex_array());
+    glPatchParameteri(GL_PATCH_VERTICES, 3);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, counters_.id());
+    glDrawArraysIndirect(GL_PATCHES, reinterpret_cast<const void*>(kDivergentDrawOffset));
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    glBindVertexArray(0);
+  }
+  glDisable(GL_RASTERIZER_DISCARD);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  gl::check("generating Forward Light Cuts VPLs");
+}
+
+void FlcPass::add_light(const RenderContext& context) {
+  if (vpl_count_ == 0) return;
+  StageScope scope(context.timer, Stage::FlcLighting);
+  glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplsBinding, vpls_.id());
+  glUseProgram(lighting_.id());
+  glUniform1ui(0, vpl_count_);
+  glDispatchCompute((vpl_count_ + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  gl::check("lighting the Forward Light Cuts VPLs");
+}
+
+void FlcPass::resize(int width, int height, const FlcParams& params) {
+  const int tiled_width = params.tile_width * params.tiles_per_axis;
+  const int tiled_height = params.tile_height * params.tiles_per_axis;
+  if (width != width_ || height != height_) {
+    untiled_ = gl::make_texture_2d(GL_RGBA32F, width, height);
+    untiled_target_ = gl::make_framebuffer({untiled_.id()}, 0);
+    blur_temp_ = gl::make_texture_2d(GL_RGBA32F, width, height);
+    blur_temp_target_ = gl::make_framebuffer({blur_temp_.id()}, 0);
+    blurred_ = gl::make_texture_2d(GL_RGBA32F, width, height);
+    blurred_target_ = gl::make_framebuffer({blurred_.id()}, 0);
+    levels_ = gl::make_texture_2d(GL_RGBA16F, width, height);
+    levels_depth_ = 0;
+    width_ = width;
+    height_ = height;
+  }
+  if (tiled_width != tiled_width_ || tiled_height != tiled_height_) {
+    tiled_ = gl::make_texture_2d(GL_RGBA32F, tiled_width, tiled_height);
+    tiled_target_ = gl::make_framebuffer({tiled_.id()}, 0);
+    tiled_width_ = tiled_width;
+    tiled_height_ = tiled_height;
+  }
+  gl::check("allocating the Forward Light Cuts targets");
+}
+
+void FlcPass::shade(const RenderContext& context, const GBuffer& gbuffer) {
+  if (vpl_count_ == 0) return;
+  resize(context.width, context.height, params_);
+  if (levels_depth_ != gbuffer.depth.id()) {
+    levels_target_ = gl::make_framebuffer({levels_.id()}, gbuffer.depth.id());
+    levels_depth_ = gbuffer.depth.id();
+  }
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplsBinding, vpls_.id());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, counters_.id());
+  glBindVertexArray(empty_vertex_array());
+  gbuffer.bind_for_reading();
+  const bool tiled = params_.tiles_per_axis > 1;
+  {
+    StageScope scope(context.timer, Stage::FlcSplat);
+    const gl::Framebuffer& target = tiled ? tiled_target_ : untiled_target_;
+    glClearNamedFramebufferfv(target.id(), GL_COLOR, 0, zero);
+    glBindFramebuffer(GL_FRAMEBUFFER, target.id());
+    glViewport(0, 0, tiled ? tiled_width_ : width_, tiled ? tiled_height_ : height_);
+    glUseProgram(splat_.id());
+    glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(context.view_projection));
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kVplDrawOffset));
+    glDisable(GL_BLEND);
+  }
+  {
+    StageScope scope(context.timer, Stage::FlcResolve);
+    glViewport(0, 0, width_, height_);
+    if (tiled) {
+      glBindFramebuffer(GL_FRAMEBUFFER, untiled_target_.id());
+      glUseProgram(untile_.id());
+      glBindTextureUnit(kSourceUnit, tiled_.id());
+      draw_fullscreen_triangle();
+    }
+    resolved_ = untiled_.id();
+    const int radius = context.settings.flc_blur_radius;
+    if (radius > 0) {
+      glUseProgram(blur_.id());
+      glUniform1i(1, radius);
+      glBindFramebuffer(GL_FRAMEBUFFER, blur_temp_target_.id());
+      glBindTextureUnit(kSourceUnit, untiled_.id());
+      glUniform2i(0, 1, 0);
+      draw_fullscreen_triangle();
+      glBindFramebuffer(GL_FRAMEBUFFER, blurred_target_.id());
+      glBindTextureUnit(kSourceUnit, blur_temp_.id());
+      glUniform2i(0, 0, 1);
+      draw_fullscreen_triangle();
+      resolved_ = blurred_.id();
+    }
+  }
+  {
+    StageScope scope(context.timer, Stage::FlcSplat);
+    glClearNamedFramebufferfv(levels_target_.id(), GL_COLOR, 0, zero);
+    glBindFramebuffer(GL_FRAMEBUFFER, levels_target_.id());
+    glUseProgram(levels_program_.id());
+    glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(context.view_projection));
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glBindVertexArray(empty_vertex_array());
+    glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kVplDrawOffset));
+    glDisable(GL_PROGRAM_POINT_SIZE);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_DEPTH_TEST);
+  }
+  glBindVertexArray(0);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  gl::check("shading Forward Light Cuts");
+}
+
+}  // namespace bounce

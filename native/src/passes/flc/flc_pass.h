@@ -1,0 +1,73 @@
+// Forward Light Cuts (Laurent et al. 2016): the first diffuse bounce from one VPL per surviving triangle.
+// Shaders: shaders/flc/. Per sample:
+//   generate   - regular pipeline: one geometry-shader pass over every triangle (Sec. 4, Alg. 1); divergent
+//                triangles are stored on the GPU and drawn again through the tessellator with
+//                glDrawArraysIndirect (Sec. 6, Alg. 2). VPLs go to a buffer.
+//   add_light  - per light, with its shadow map bound: the direct irradiance E(t_i) at every VPL (Eq. 6).
+//   shade      - splatting of every VPL's support (Eq. 5, 10, 14, 16) into 4^L interleaved sub-images, then
+//                untiling and a depth- and normal-aware blur; plus the VPL-levels debug view (Fig. 3).
+// The paper generates and splats in one geometry shader with one light. Keeping the VPLs in a buffer between
+// the stages lets any number of lights (each with its own shadow map) light the same VPLs, and counts them.
+#pragma once
+
+#include <cstdint>
+
+#include "gl/objects.h"
+#include "passes/gbuffer/gbuffer_pass.h"
+#include "passes/render_context.h"
+
+namespace bounce {
+
+// std140 mirror of shaders/flc/flc_common.glsl `FlcParams`.
+struct FlcParams {
+  float s0, mu, epsilon, inverse_cumulative_n;
+  int32_t levels, tiles_per_axis, jitter, divergent;
+  uint32_t u_rand, vpl_capacity, divergent_capacity;
+  float max_tess_level;
+  int32_t image_width, image_height, tile_width, tile_height;
+  float scene_radius;
+  float d0;
+};
+
+// The pass's parameters for one sample: Eq. 1 (S_0 from N_avg and D_near), Eq. 17-18, the interleaving.
+FlcParams make_flc_params(const BounceSettings& settings, float scene_radius, int width, int height, uint32_t seed,
+                          uint32_t sample);
+
+class FlcPass {
+ public:
+  FlcPass();
+  void generate(const RenderContext& context);
+  void add_light(const RenderContext& context);
+  void shade(const RenderContext& context, const GBuffer& gbuffer);
+
+  bool active() const { return vpl_count_ > 0; }
+  GLuint indirect() const { return resolved_; }  // RGBA32F, the tile's size
+  GLuint levels() const { return levels_.id(); }
+  uint32_t vpl_count() const { return vpl_count_; }
+  uint32_t divergent_count() const { return divergent_count_; }
+
+ private:
+  struct Counters {  // std430 mirror of `FlcCounters`
+    uint32_t vpl_draw[4];
+    uint32_t divergent_draw[4];
+    uint32_t vpl_overflow, divergent_overflow;
+  };
+
+  void run_pipelines(const RenderContext& context);
+  void resize(int width, int height, const FlcParams& params);
+
+  gl::Program regular_, divergent_, lighting_, splat_, untile_, blur_, levels_program_;
+  gl::Buffer params_buffer_, counters_, vpls_, divergents_;
+  gl::Texture noise_;
+  FlcParams params_{};
+  uint32_t vpl_capacity_ = 0, divergent_capacity_ = 0;
+  uint32_t vpl_count_ = 0, divergent_count_ = 0;
+
+  gl::Texture tiled_, untiled_, blur_temp_, blurred_, levels_;
+  gl::Framebuffer tiled_target_, untiled_target_, blur_temp_target_, blurred_target_, levels_target_;
+  GLuint resolved_ = 0;
+  int width_ = 0, height_ = 0, tiled_width_ = 0, tiled_height_ = 0;
+  GLuint levels_depth_ = 0;
+};
+
+}  // namespace bounce

@@ -1,0 +1,39 @@
+// Splatting, fragment stage: the VPL's contribution H(t_i, x, n_x) F^k(t_i, x) to the receiver of this pixel
+// (Eq. 5, 6, 10, 14, 16), added into the interleaved indirect target.
+#include "flc/flc_common.glsl"
+
+layout(binding = 1) uniform sampler2D g_albedo;
+layout(binding = 2) uniform sampler2D g_normal;
+layout(binding = 3) uniform sampler2D g_position;
+
+flat in vec3 s_vpl_position;
+flat in vec3 s_vpl_normal;
+flat in vec3 s_radiance_factor;
+flat in int s_level;
+flat in ivec2 s_tile;
+
+layout(location = 0) out vec4 out_indirect;
+
+void main() {
+  ivec2 local = ivec2(gl_FragCoord.xy) - s_tile * ivec2(flc.tile_width, flc.tile_height);
+  ivec2 pixel = local * flc.tiles_per_axis + s_tile;
+  if (any(greaterThanEqual(pixel, ivec2(flc.image_width, flc.image_height)))) discard;
+  vec4 albedo = texelFetch(g_albedo, pixel, 0);
+  if (albedo.a == 0.0) discard;
+  vec3 x = texelFetch(g_position, pixel, 0).xyz;
+  vec3 n_x = texelFetch(g_normal, pixel, 0).xyz;
+  vec3 to_receiver = x - s_vpl_position;
+  float distance2 = dot(to_receiver, to_receiver);
+  if (!(distance2 > 0.0)) discard;
+  float distance = sqrt(distance2);
+  vec3 direction = to_receiver / distance;
+  float cos_emitter = dot(s_vpl_normal, direction);
+  float cos_receiver = -dot(n_x, direction);
+  if (cos_emitter <= 0.0 || cos_receiver <= 0.0) discard;
+  float f = flc_partition(distance / cos_emitter, s_level, flc.levels, flc.d0, flc.mu);  // Eq. 14, 16
+  if (f == 0.0) discard;
+  float clamped = max(flc.epsilon, distance);
+  // L(t_i, y_i x) = rho_i E 3/(2 pi) <n_i, y_i x>+ (Eq. 6); H = L rho_x <n_x, x y_i>+ <n_i, y_i x>+ / (pi d^2).
+  vec3 h = s_radiance_factor * cos_emitter * albedo.rgb * cos_receiver * cos_emitter / (FLC_PI * clamped * clamped);
+  out_indirect = vec4(h * f, 0.0);
+}

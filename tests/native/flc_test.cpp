@@ -1,0 +1,277 @@
+// Forward Light Cuts: the shared math against the paper's definitions, and the GPU pass against closed forms.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "passes/flc/flc_math.h"
+#include "render_fixture.h"
+
+namespace bounce::test {
+namespace {
+
+// A UV sphere of radius r around the origin.
+void sphere_mesh(float r, int segments, int rings, std::vector<float>& positions, std::vector<uint32_t>& triangles) {
+  for (int j = 0; j <= rings; ++j) {
+    const float theta = kPi * j / rings;
+    for (int i = 0; i <= segments; ++i) {
+      const float phi = 2.0f * kPi * i / segments;
+      positions.insert(positions.end(),
+                       {r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi), r * std::cos(theta)});
+    }
+  }
+  const auto at = [&](int i, int j) { return static_cast<uint32_t>(j * (segments + 1) + i); };
+  for (int j = 0; j < rings; ++j)
+    for (int i = 0; i < segments; ++i) {
+      if (j > 0) triangles.insert(triangles.end(), {at(i, j), at(i, j + 1), at(i + 1, j)});
+      if (j < rings - 1) triangles.insert(triangles.end(), {at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)});
+    }
+}
+
+class Flc : public RenderFixture {
+ protected:
+  // The furnace of the issue: a closed diffuse sphere (R = 2, albedo 0.8) with a point light at its centre,
+  // seen from the centre. First-bounce radiance on the wall: rho * (rho * E0) / pi with E0 = I / R^2.
+  void furnace() {
+    std::vector<float> positions;
+    std::vector<uint32_t> triangles;
+    sphere_mesh(2.0f, 96, 48, positions, triangles);
+    add_mesh(1, positions, triangles);
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(0.8f);
+    set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(0.0f), glm::vec3(1000.0f / (4.0f * kPi)))});
+    const glm::mat4 view = glm::lookAt(glm::vec3(0.0f), glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
+    set_camera(view, glm::perspective(glm::radians(60.0f), 1.0f, 0.05f, 10.0f), 48, 48);
+    settings_.method = BOUNCE_METHOD_FLC;
+    settings_.filter_width = 0.0f;
+  }
+  static double mean_red(const Image& image) {
+    double sum = 0.0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) sum += image.at(x, y)[0];
+    return sum / (image.width * image.height);
+  }
+};
+
+TEST(FlcMath, PartitionOfUnityAtEveryDistance) {
+  for (int levels = 0; levels <= 10; ++levels)
+    for (float mu : {1.4f, 2.0f, 3.0f, 5.0f})
+      for (float d = 1e-4f; d < 1e4f; d *= 1.07f) {
+        float sum = 0.0f;
+        for (int k = 0; k <= levels; ++k) {
+          const float f = flc::flc_partition(d, k, levels, 0.1f, mu);
+          EXPECT_GE(f, 0.0f);
+          EXPECT_LE(f, 1.0f);
+          const float support = flc::flc_support_distance(k, levels, 0.1f, mu);
+          if (support >= 0.0f && d > support) {
+            EXPECT_EQ(f, 0.0f) << "level " << k << " beyond its support";
+          }
+          sum += f;
+        }
+        ASSERT_NEAR(sum, 1.0f, 1e-5f) << "levels " << levels << " mu " << mu << " d " << d;
+      }
+}
+
+TEST(FlcMath, LevelDistancesAndAreasFollowEq17And18) {
+  const float s0 = 0.02f, mu = 3.0f;
+  for (int k = 0; k < 8; ++k) {
+    EXPECT_FLOAT_EQ(flc::flc_level_area(s0, mu, k), s0 * std::pow(mu, float(k)));
+    EXPECT_FLOAT_EQ(flc::flc_level_distance(0.5f, mu, k), 0.5f * std::sqrt(std::pow(mu, float(k))));
+    double inverse = 0.0;
+    for (int j = 0; j <= k; ++j) inverse += 1.0 / (s0 * std::pow(mu, j));
+    EXPECT_NEAR(flc::flc_inverse_cumulative_area(s0, mu, k), inverse, 1e-5 * inverse);
+  }
+}
+
+// Alg. 1's level frequencies against P(level k) = A / S_k (and the rest discarded), by a chi-square test.
+TEST(FlcMath, Algorithm1LevelFrequenciesAreAreaOverSk) {
+  const float s0 = 1.0f, mu = 2.0f;
+  const int levels = 5;
+  const float area = 0.9f / flc::flc_inverse_cumulative_area(s0, mu, levels);  // keeps 90 %
+  const int draws = 200000;
+  std::vector<int> counts(levels + 2, 0);
+  for (int i = 0; i < draws; ++i) {
+    const int k = flc::flc_level(flc::flc_unit(pcg_hash(static_cast<uint32_t>(i) * 2654435761u)), area, s0, mu, levels);
+    ++counts[k < 0 ? levels + 1 : k];
+  }
+  double chi2 = 0.0, kept = 0.0;
+  for (int k = 0; k <= levels + 1; ++k) {
+    const double p = k <= levels ? area / flc::flc_level_area(s0, mu, k) : 0.0;
+    kept += p;
+    const double expected = (k <= levels ? p : 1.0 - kept) * draws;
+    chi2 += (counts[k] - expected) * (counts[k] - expected) / expected;
+  }
+  EXPECT_NEAR(kept, 0.9, 1e-5);
+  EXPECT_LT(chi2, 20.5) << "7 bins, 6 degrees of freedom: 99.8 % quantile";
+}
+
+TEST(FlcMath, OversizeTrianglesKeepTheirExpectedArea) {
+  const float s0 = 1.0f, mu = 2.0f;
+  const int levels = 3;
+  const float inverse_n = flc::flc_inverse_cumulative_area(s0, mu, levels);
+  for (float area : {0.3f / inverse_n, 1.0f / inverse_n, 7.5f / inverse_n}) {
+    const float weight = flc::flc_oversize_weight(area, inverse_n);
+    double expectation = 0.0;  // E[F^k] at a distance where f^k = 1 for every k: sum_k P(k) S_k weight
+    for (int k = 0; k <= levels; ++k)
+      expectation += (area / weight) / flc::flc_level_area(s0, mu, k) * flc::flc_level_area(s0, mu, k) * weight;
+    EXPECT_NEAR(expectation / (levels + 1), area, 1e-4 * area);
+  }
+}
+
+TEST_F(Flc, FurnaceConvergesToTheFirstBounce) {
+  furnace();
+  settings_.samples = 64;
+  settings_.flc_tiling = 0;
+  settings_.flc_blur_radius = 0;
+  const Image indirect = render(BOUNCE_AOV_INDIRECT);
+  ASSERT_TRUE(all_finite(indirect));
+  const double expected = 0.8 * 0.8 * (1000.0 / (4.0 * kPi) / 4.0) / kPi;
+  EXPECT_NEAR(mean_red(indirect), expected, 0.02 * expected);
+}
+
+}  // namespace
+}  // namespace bounce::test
+
+namespace bounce::test {
+namespace {
+
+class FlcHard : public Flc {
+ protected:
+  void SetUp() override {
+    Flc::SetUp();
+    settings_.method = BOUNCE_METHOD_FLC;
+    settings_.samples = 4;
+    settings_.flc_tiling = 1;
+  }
+  // A floor (z = 0) and a wall (x = 0) meeting in a corner, `size` metres, lit by a point light scaled with
+  // them (intensity ~ size^2 keeps the radiance scale-free), seen from the same relative place.
+  void corner(float size) {
+    const float s = size;
+    add_mesh(1, {0, -s, 0, 2 * s, -s, 0, 2 * s, s, 0, 0, s, 0, 0, -s, 0, 0, s, 0, 0, s, 2 * s, 0, -s, 2 * s},
+             {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7});
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(0.8f);
+    set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(1.2f, 0.3f, 1.0f) * s, glm::vec3(10.0f * s * s))});
+    set_camera(glm::lookAt(glm::vec3(3.0f, -1.5f, 2.0f) * s, glm::vec3(0.3f, 0.0f, 0.3f) * s, glm::vec3(0, 0, 1)),
+               glm::perspective(1.0f, 1.0f, 0.01f * s, 20.0f * s), 32, 32);
+  }
+  static float max_value(const Image& image) {
+    float m = 0.0f;
+    for (float v : image.values) m = std::max(m, v);
+    return m;
+  }
+};
+
+TEST_F(FlcHard, VplOnTheReceiverStaysFiniteAndBounded) {
+  corner(1.0f);
+  for (float epsilon : {0.0f, 0.01f}) {
+    settings_.flc_epsilon = epsilon;
+    const Image indirect = render(BOUNCE_AOV_INDIRECT);
+    ASSERT_TRUE(all_finite(indirect)) << "epsilon " << epsilon;
+    if (epsilon > 0.0f) EXPECT_LT(max_value(indirect), 10.0f * mean_red(read(BOUNCE_AOV_DIRECT)) + 1.0f);
+  }
+}
+
+TEST_F(FlcHard, IndirectLightDoesNotDependOnTheSceneScale) {
+  corner(1.0f);
+  const Image unit = render(BOUNCE_AOV_INDIRECT);
+  ASSERT_GT(mean_red(unit), 0.0);
+  for (float scale : {1e-4f, 1e4f}) {
+    corner(scale);
+    const Image scaled = render(BOUNCE_AOV_INDIRECT);
+    ASSERT_TRUE(all_finite(scaled));
+    EXPECT_NEAR(mean_red(scaled), mean_red(unit), 0.02 * mean_red(unit)) << "scale " << scale;
+  }
+}
+
+TEST_F(FlcHard, GrazingLightAndReceivers) {
+  corner(1.0f);
+  BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 0}, glm::vec3(3.0f));
+  const glm::vec3 z = glm::normalize(glm::vec3(1.0f, 0.0f, 1e-4f));  // towards the sun, 89.99 degrees off zenith
+  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), z)), y = glm::cross(z, x);
+  std::memcpy(sun.axis_x, &x[0], 12);
+  std::memcpy(sun.axis_y, &y[0], 12);
+  std::memcpy(sun.axis_z, &z[0], 12);
+  set_lights({sun});
+  // Looking along the floor: every floor pixel is a grazing receiver.
+  set_camera(glm::lookAt(glm::vec3(3.0f, 0.0f, 1e-3f), glm::vec3(0.0f, 0.0f, 0.0f), glm::vec3(0, 0, 1)),
+             glm::perspective(1.0f, 1.0f, 0.001f, 20.0f), 32, 32);
+  const Image combined = render();
+  EXPECT_TRUE(all_finite(combined));
+  EXPECT_TRUE(all_finite(read(BOUNCE_AOV_INDIRECT)));
+}
+
+TEST_F(FlcHard, NeedleZeroAreaAndCoplanarTriangles) {
+  const float thin = 1e-7f;
+  add_mesh(1, {-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0}, {0, 1, 2, 0, 2, 3});
+  // The same floor again (coplanar overlap), a needle standing on it, and a zero-area triangle.
+  add_mesh(2, {-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0, 0, 0, 0, thin, 0, 0, 0, 0, 2, 1, 1, 1, 2, 2, 2, 3, 3, 3},
+           {0, 1, 2, 0, 2, 3, 4, 5, 6, 7, 8, 9});
+  set_instances({1, 2}, {glm::mat4(1.0f), glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  set_lights({make_light(BOUNCE_LIGHT_POINT, {0.5f, 0.5f, 1.0f}, glm::vec3(10.0f))});
+  look_down(2.0f, 32);
+  const Image indirect = render(BOUNCE_AOV_INDIRECT);
+  EXPECT_TRUE(all_finite(indirect));
+  // A plane cannot light itself: the overlap and the needle (width 1e-7) add next to nothing.
+  EXPECT_LT(max_value(indirect), 1e-3f * max_value(read(BOUNCE_AOV_DIRECT)));
+}
+
+TEST_F(FlcHard, SingleTriangleScene) {
+  add_mesh(1, {-1, -1, 0, 1, -1, 0, 0, 1, 0}, {0, 1, 2});
+  set_instances({1}, {glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  set_lights({make_light(BOUNCE_LIGHT_POINT, {0.0f, 0.0f, 1.0f}, glm::vec3(10.0f))});
+  look_down(1.0f, 16);
+  const Image indirect = render(BOUNCE_AOV_INDIRECT);
+  EXPECT_TRUE(all_finite(indirect));
+  EXPECT_LT(max_value(indirect), 1e-6f);
+}
+
+TEST_F(FlcHard, AMillionIdenticalTinyTriangles) {
+  const uint32_t count = 1000000;
+  std::vector<float> positions = {0, 0, 0.5f, 1e-4f, 0, 0.5f, 0, 1e-4f, 0.5f};
+  std::vector<uint32_t> triangles;
+  triangles.reserve(3 * count);
+  for (uint32_t i = 0; i < count; ++i) triangles.insert(triangles.end(), {0, 1, 2});
+  add_mesh(1, positions, triangles);
+  add_plane(2, 4.0f);
+  set_instances({1, 2}, {glm::mat4(1.0f), glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  set_lights({make_light(BOUNCE_LIGHT_POINT, {0.0f, 0.0f, 1.0f}, glm::vec3(10.0f))});
+  look_down(2.0f, 32);
+  const Image indirect = render(BOUNCE_AOV_INDIRECT);
+  EXPECT_TRUE(all_finite(indirect));
+  BounceFrameInfo info{};
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+  // A million triangles of 5e-9 m^2 hold 0.005 m^2: Alg. 1 keeps a handful of them, not a million VPLs.
+  EXPECT_LT(info.vpl_count, 20000u);
+}
+
+// One floor triangle far larger than everything else: too large for the tessellator even at its maximum
+// level, it is split as far as the hardware goes and the rest is carried by Alg. 1's oversize weight. The
+// light it bounces onto a wall must match what a finely tessellated floor bounces.
+TEST_F(FlcHard, HugeTriangleKeepsItsEnergy) {
+  const float f = 5.0f;
+  add_mesh(1, {-f, -f, 0, 3 * f, -f, 0, -f, 3 * f, 0}, {0, 1, 2});
+  add_mesh(2, {0, -0.5f, 0.01f, 0, 0.5f, 0.01f, 0, 0.5f, 1, 0, -0.5f, 1}, {0, 1, 2, 0, 2, 3});  // a wall
+  set_instances({1, 2}, {glm::mat4(1.0f), glm::mat4(1.0f)});
+  set_albedo(0.5f);
+  set_lights({make_light(BOUNCE_LIGHT_POINT, {-3.0f, 0.0f, 4.0f}, glm::vec3(100.0f))});
+  set_camera(glm::lookAt(glm::vec3(-3.0f, 0.0f, 0.5f), glm::vec3(0.0f, 0.0f, 0.5f), glm::vec3(0, 0, 1)),
+             glm::perspective(0.25f, 1.0f, 0.1f, 100.0f), 16, 16);
+  settings_.samples = 128;
+  settings_.flc_blur_radius = 0;
+  settings_.flc_vpls_per_pixel = 256;  // the floor splits into at most 59^2 parts: within the hardware's 64
+  const double reference = mean_red(render(BOUNCE_AOV_INDIRECT));
+  BounceFrameInfo info{};
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+  EXPECT_GE(info.divergent_triangles, 1u);
+  settings_.flc_vpls_per_pixel = 65536;  // the floor now needs far more than 64^2 parts
+  const double oversize = mean_red(render(BOUNCE_AOV_INDIRECT));
+  EXPECT_NEAR(oversize, reference, 0.05 * reference);
+  settings_.flc_divergent = 0;
+  EXPECT_LT(mean_red(render(BOUNCE_AOV_INDIRECT)), 0.1 * reference) << "the floor's light should be missing";
+}
+
+}  // namespace
+}  // namespace bounce::test

@@ -13,14 +13,19 @@ extern const std::map<std::string, std::string>& embedded_shaders();
 
 namespace {
 
+std::string expand_text(const std::string& text, std::set<std::string>& included);
+
 std::string expand(const std::string& path, std::set<std::string>& included) {
   const auto& sources = embedded_shaders();
   const auto found = sources.find(path);
   if (found == sources.end()) fail(BOUNCE_ERROR_INTERNAL, "shader '" + path + "' is not embedded in the library");
   if (!included.insert(path).second) return "";  // each file once, like #pragma once
+  return expand_text(found->second, included);
+}
+
+std::string expand_text(const std::string& text, std::set<std::string>& included) {
   std::string out;
   std::size_t line_start = 0;
-  const std::string& text = found->second;
   int line_number = 1;
   while (line_start < text.size()) {
     std::size_t line_end = text.find('\n', line_start);
@@ -76,8 +81,10 @@ Program build_program(const std::vector<StageSource>& stages, const std::string&
   Program program(glCreateProgram());
   std::vector<GLuint> shaders;
   for (const StageSource& stage : stages) {
-    const std::string source = "#version 450 core\n" + stage_define(stage.stage) + defines + settings_glsl_block() +
-                               "#line 1\n" + shader_text(stage.path);
+    std::set<std::string> included;
+    const std::string body = stage.text.empty() ? expand(stage.path, included) : expand_text(stage.text, included);
+    const std::string source =
+        "#version 450 core\n" + stage_define(stage.stage) + defines + settings_glsl_block() + "#line 1\n" + body;
     const GLuint shader = glCreateShader(stage.stage);
     const char* text = source.c_str();
     glShaderSource(shader, 1, &text, nullptr);

@@ -12,7 +12,8 @@ namespace bounce::gl {
 
 struct StageSource {
   GLenum stage;      // GL_VERTEX_SHADER, ...
-  std::string path;  // relative to shaders/, e.g. "gbuffer/gbuffer.vert"
+  std::string path;  // relative to shaders/, e.g. "gbuffer/gbuffer.vert"; names the stage in errors
+  std::string text;  // when set, the source itself instead of the embedded file at `path` (tests)
 };
 
 // Compiles and links; throws Error(BOUNCE_ERROR_GL) with the compiler log, naming the file.

@@ -41,6 +41,7 @@ def viewport_run(blender, out_root):
     blender.run(["--python-expr",
                  "import bpy, sys; bpy.ops.bounce.demo_scene(resolution=128); "
                  "bpy.context.scene.bounce.viewport_samples = 8; "
+                 "bpy.context.scene.bounce.viewport_flc_tiling = 1; "
                  f"bpy.ops.wm.save_as_mainfile(filepath={str(blend)!r})"], name="viewport-scene")
     # Blender's screenshot operator writes black under Xvfb from 4.3 on (docs/chroots.md): capture with xwd.
     capture = "screenshot" if blender.version < (4, 0, 0) else "xwd"

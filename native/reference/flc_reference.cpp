@@ -17,6 +17,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
+#include "scene_data.h"
+
 namespace bounce::reference {
 namespace {
 
@@ -24,10 +26,6 @@ constexpr float kPi = 3.14159265358979f;
 constexpr double kPiD = 3.14159265358979323846;
 
 glm::vec3 load3(const float v[3]) { return {v[0], v[1], v[2]}; }
-void store3(float v[3], glm::dvec3 value) {
-  for (int i = 0; i < 3; ++i) v[i] = static_cast<float>(value[i]);
-}
-bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 // splitmix64's finaliser: a bijective 64-bit hash.
 uint64_t mix(uint64_t x) {
@@ -88,39 +86,9 @@ void parallel_for(std::size_t count, int threads, std::size_t grain, const Body&
   if (error) std::rethrow_exception(error);
 }
 
-// As scene_data.cpp's prepare_lights: the engine draws these lights only.
+// The engine's own sanitising (dropped, clamped, orthonormalised): the reference lights what the engine draws.
 std::vector<BounceLight> sanitize_lights(const std::vector<BounceLight>& lights) {
-  std::vector<BounceLight> out;
-  for (std::size_t i = 0; i < lights.size(); ++i) {
-    BounceLight light = lights[i];
-    if (light.type < BOUNCE_LIGHT_POINT || light.type > BOUNCE_LIGHT_AREA_ELLIPSE) {
-      throw std::invalid_argument("light " + std::to_string(i) + ": unknown type " + std::to_string(light.type));
-    }
-    const bool finite = finite3(light.position) && finite3(light.axis_x) && finite3(light.axis_y) &&
-                        finite3(light.axis_z) && finite3(light.intensity) && std::isfinite(light.radius) &&
-                        std::isfinite(light.half_size[0]) && std::isfinite(light.half_size[1]) &&
-                        std::isfinite(light.spot_half_angle) && std::isfinite(light.spot_blend) &&
-                        std::isfinite(light.sun_angle);
-    const float peak = std::max({light.intensity[0], light.intensity[1], light.intensity[2]});
-    const bool area = light.type == BOUNCE_LIGHT_AREA_RECT || light.type == BOUNCE_LIGHT_AREA_ELLIPSE;
-    if (!finite || !(peak > 0.0f) || (area && !(light.half_size[0] > 0.0f && light.half_size[1] > 0.0f))) continue;
-    for (float& c : light.intensity) c = std::max(c, 0.0f);
-    glm::dvec3 z = load3(light.axis_z), x = load3(light.axis_x);
-    if (!(glm::length(z) > 1e-12)) z = {0, 0, 1};
-    z = glm::normalize(z);
-    x -= glm::dot(x, z) * z;
-    if (!(glm::length(x) > 1e-9)) x = glm::cross(std::abs(z.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0), z);
-    x = glm::normalize(x);
-    store3(light.axis_x, x);
-    store3(light.axis_y, glm::cross(z, x));
-    store3(light.axis_z, z);
-    light.radius = std::max(light.radius, 0.0f);
-    light.spot_half_angle = std::clamp(light.spot_half_angle, 0.0f, kPi);
-    light.spot_blend = std::clamp(light.spot_blend, 0.0f, 1.0f);
-    light.sun_angle = std::clamp(light.sun_angle, 0.0f, kPi);
-    out.push_back(light);
-  }
-  return out;
+  return prepare_lights(static_cast<uint32_t>(lights.size()), lights.data()).lights;
 }
 
 float smoothstep(float edge0, float edge1, float x) {

@@ -54,23 +54,26 @@ FLC_INLINE float flc_oversize_weight(float area, float inverse_cumulative_n) { r
 // increasing D_k keeps the estimator unbiased (Eq. 11 holds for every choice).
 FLC_INLINE float flc_level_distance(float d0, float mu, int k) { return d0 * sqrt(flc_level_area(1.0f, mu, k)); }
 
-// f~^k(d), the piecewise-affine partition of unity of Eq. 16, at d = d(t_i, x) of Eq. 14. Two departures
+// f~^k(d), the piecewise-affine partition of unity of Eq. 16, at d = d(t_i, x) of Eq. 14, for level k whose
+// neighbours sit at D_{k-1} (lower), D_k (centre) and D_{k+1} (upper); the splatting shader passes the three
+// distances in, computed once per VPL. Two departures
 // from the printed text, both needed for sum_k f~^k(d) = 1 at every d > 0 (Eq. 11):
 // - level 0 is 1 on ]0, D_0] and falls on ]D_0, D_1] like every other level (as printed it is 1 up to D_1,
 //   which overlaps level 1's rise on ]D_0, D_1]);
 // - the last level stays 1 beyond D_N instead of Eq. 18's D_{N+1} = D_N, which would drop all light from
 //   beyond D_N. Its lights are the fewest (expected count A_scene / S_N) and splat over the whole view.
-FLC_INLINE float flc_partition(float d, int k, int levels, float d0, float mu) {
-  if (levels == 0) return 1.0f;
-  float centre = flc_level_distance(d0, mu, k);
+FLC_INLINE float flc_partition_between(float d, float lower, float centre, float upper, bool first, bool last) {
   if (d <= centre) {
-    if (k == 0) return 1.0f;
-    float lower = flc_level_distance(d0, mu, k - 1);
+    if (first) return 1.0f;
     return d > lower ? (d - lower) / (centre - lower) : 0.0f;
   }
-  if (k == levels) return 1.0f;
-  float upper = flc_level_distance(d0, mu, k + 1);
+  if (last) return 1.0f;
   return d < upper ? (upper - d) / (upper - centre) : 0.0f;
+}
+
+FLC_INLINE float flc_partition(float d, int k, int levels, float d0, float mu) {
+  return flc_partition_between(d, k > 0 ? flc_level_distance(d0, mu, k - 1) : 0.0f, flc_level_distance(d0, mu, k),
+                               k < levels ? flc_level_distance(d0, mu, k + 1) : 0.0f, k == 0, k == levels);
 }
 
 // The largest d at which level k's partition function is non-zero; negative for "unbounded" (the last level).

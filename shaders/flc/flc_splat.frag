@@ -9,7 +9,7 @@ layout(binding = 3) uniform sampler2D g_position;
 flat in vec3 s_vpl_position;
 flat in vec3 s_vpl_normal;
 flat in vec3 s_radiance_factor;
-flat in int s_level;
+flat in vec4 s_partition;
 flat in ivec2 s_tile;
 
 layout(location = 0) out vec4 out_indirect;
@@ -18,20 +18,24 @@ void main() {
   ivec2 local = ivec2(gl_FragCoord.xy) - s_tile * ivec2(flc.tile_width, flc.tile_height);
   ivec2 pixel = local * flc.tiles_per_axis + s_tile;
   if (any(greaterThanEqual(pixel, ivec2(flc.image_width, flc.image_height)))) discard;
-  vec4 albedo = texelFetch(g_albedo, pixel, 0);
-  if (albedo.a == 0.0) discard;
+  // Most fragments of a quad lie outside the VPL's support: the position alone decides, before the other
+  // fetches.
   vec3 x = texelFetch(g_position, pixel, 0).xyz;
-  vec3 n_x = texelFetch(g_normal, pixel, 0).xyz;
   vec3 to_receiver = x - s_vpl_position;
   float distance2 = dot(to_receiver, to_receiver);
   if (!(distance2 > 0.0)) discard;
   float distance = sqrt(distance2);
   vec3 direction = to_receiver / distance;
   float cos_emitter = dot(s_vpl_normal, direction);
-  float cos_receiver = -dot(n_x, direction);
-  if (cos_emitter <= 0.0 || cos_receiver <= 0.0) discard;
-  float f = flc_partition(distance / cos_emitter, s_level, flc.levels, flc.d0, flc.mu);  // Eq. 14, 16
+  if (cos_emitter <= 0.0) discard;
+  int ends = int(s_partition.w);
+  float f = flc_partition_between(distance / cos_emitter, s_partition.x, s_partition.y, s_partition.z,
+                                  (ends & 1) != 0, (ends & 2) != 0);  // Eq. 14, 16
   if (f == 0.0) discard;
+  vec4 albedo = texelFetch(g_albedo, pixel, 0);
+  if (albedo.a == 0.0) discard;
+  float cos_receiver = -dot(texelFetch(g_normal, pixel, 0).xyz, direction);
+  if (cos_receiver <= 0.0) discard;
   float clamped = max(flc.epsilon, distance);
   // L(t_i, y_i x) = rho_i E 3/(2 pi) <n_i, y_i x>+ (Eq. 6); H = L rho_x <n_x, x y_i>+ <n_i, y_i x>+ / (pi d^2).
   vec3 h = s_radiance_factor * cos_emitter * albedo.rgb * cos_receiver * cos_emitter / (FLC_PI * clamped * clamped);

@@ -12,7 +12,7 @@ flat in uint v_vpl[];
 flat out vec3 s_vpl_position;
 flat out vec3 s_vpl_normal;
 flat out vec3 s_radiance_factor;  // rho_i E 3 / (2 pi) of Eq. 6, times S_k and the interleaving weight
-flat out int s_level;
+flat out vec4 s_partition;  // D_{k-1}, D_k, D_{k+1}, and (k == 0) + 2 (k == N)
 flat out ivec2 s_tile;
 
 layout(location = 0) uniform mat4 u_view_projection;
@@ -59,7 +59,10 @@ void emit_side(Vpl vpl, vec3 n, vec3 irradiance, ivec2 tile, float tile_weight) 
   s_vpl_position = vpl.position_scale.xyz;
   s_vpl_normal = n;
   s_radiance_factor = vpl.albedo_random.rgb * irradiance * (3.0 / (2.0 * FLC_PI)) * vpl.position_scale.w * tile_weight;
-  s_level = level;
+  s_partition = vec4(level > 0 ? flc_level_distance(flc.d0, flc.mu, level - 1) : 0.0,
+                     flc_level_distance(flc.d0, flc.mu, level),
+                     level < flc.levels ? flc_level_distance(flc.d0, flc.mu, level + 1) : 0.0,
+                     float((level == 0 ? 1 : 0) + (level == flc.levels ? 2 : 0)));
   s_tile = tile;
   for (int i = 0; i < 4; ++i) {
     vec2 corner = vec2((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y);

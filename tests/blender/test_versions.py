@@ -9,7 +9,7 @@ import pytest
 import version_images
 from conftest import BUILD, record
 
-SETTINGS = {"method": "DIRECT", "samples": 16, "seed": 0, "filter_width": 1.0, "shadow_map_size": 1024}
+SETTINGS = {"method": "FLC", "samples": 16, "seed": 0, "filter_width": 1.0, "shadow_map_size": 1024}
 VERSION_DIR = BUILD / "version-images"
 
 

@@ -122,7 +122,8 @@ def _fit(pixels, src_width, src_height, width, height, channels):
 def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
     stages = info.stage_list()
     stage_text = ", ".join(f"{name} {gpu_ms:.1f} ms" for name, gpu_ms, _cpu_ms in stages)
-    engine.update_stats("", f"Bounce | {info.samples} samples | {stage_text}")
+    vpl_text = f" | {info.vpl_count:,} VPLs" if info.vpl_count else ""
+    engine.update_stats("", f"Bounce | {info.samples} samples{vpl_text} | {stage_text}")
     if kind != session.FINAL:
         return
     last_render.clear()
@@ -131,4 +132,5 @@ def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
         render_seconds=render_seconds, sync_seconds=sync_stats.last_sync_seconds,
         triangles=scene_stats.triangle_count, dropped_triangles=scene_stats.dropped_triangles,
         lights=scene_stats.light_count, skipped_lights=scene_stats.skipped_lights,
-        meshes=scene_stats.mesh_count, instances=scene_stats.instance_count, gpu_bytes=scene_stats.gpu_bytes)
+        meshes=scene_stats.mesh_count, instances=scene_stats.instance_count, gpu_bytes=scene_stats.gpu_bytes,
+        vpls=info.vpl_count, divergent_triangles=info.divergent_triangles)

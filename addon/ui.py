@@ -97,6 +97,9 @@ class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
                        f"render {info['render_seconds'] * 1e3:.0f} ms, sync {info['sync_seconds'] * 1e3:.0f} ms")
         col.label(text=f"{info['triangles']:,} triangles, {info['instances']} instances, {info['meshes']} meshes, "
                        f"{info['lights']} lights, {info['gpu_bytes'] / 2**20:.1f} MiB")
+        if info["vpls"]:
+            col.label(text=f"Forward Light Cuts: {info['vpls']:,} VPLs a sample, "
+                           f"{info['divergent_triangles']:,} triangles subdivided")
         if info["dropped_triangles"] or info["skipped_lights"]:
             col.label(text=f"Dropped {info['dropped_triangles']:,} triangles, skipped {info['skipped_lights']} "
                            "lights", icon="ERROR")

@@ -194,13 +194,14 @@ def case_emission(scene):
 
 def main():
     case, out = bc.args()[:2]
+    method = bc.args()[2] if len(bc.args()) > 2 else "DIRECT"
     os.makedirs(out, exist_ok=True)
     bc.clear_data()
     scene = bpy.context.scene
     bc.black_world(scene)
     bc.set_resolution(scene, RES, RES)
     bc.linear_output(scene)
-    bc.bounce_settings(scene, method="DIRECT", samples=4, shadow_map_size=256)
+    bc.bounce_settings(scene, method=method, samples=4, shadow_map_size=256)
     globals()["case_" + case](scene)
     path = os.path.join(out, case)
     error = None

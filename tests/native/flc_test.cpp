@@ -1,6 +1,7 @@
 // Forward Light Cuts: the shared math against the paper's definitions, and the GPU pass against closed forms.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
 #include "passes/flc/flc_math.h"
@@ -100,6 +101,7 @@ TEST(FlcMath, Algorithm1LevelFrequenciesAreAreaOverSk) {
     const double expected = (k <= levels ? p : 1.0 - kept) * draws;
     chi2 += (counts[k] - expected) * (counts[k] - expected) / expected;
   }
+  std::printf("Alg. 1 level frequencies over %d draws: chi-square %.2f (6 degrees of freedom)\n", draws, chi2);
   EXPECT_NEAR(kept, 0.9, 1e-5);
   EXPECT_LT(chi2, 20.5) << "7 bins, 6 degrees of freedom: 99.8 % quantile";
 }
@@ -244,6 +246,8 @@ TEST_F(FlcHard, AMillionIdenticalTinyTriangles) {
   BounceFrameInfo info{};
   ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
   // A million triangles of 5e-9 m^2 hold 0.005 m^2: Alg. 1 keeps a handful of them, not a million VPLs.
+  std::printf("a million identical tiny triangles and a floor: %llu VPLs\n",
+              static_cast<unsigned long long>(info.vpl_count));
   EXPECT_LT(info.vpl_count, 20000u);
 }
 
@@ -268,6 +272,7 @@ TEST_F(FlcHard, HugeTriangleKeepsItsEnergy) {
   EXPECT_GE(info.divergent_triangles, 1u);
   settings_.flc_vpls_per_pixel = 65536;  // the floor now needs far more than 64^2 parts
   const double oversize = mean_red(render(BOUNCE_AOV_INDIRECT));
+  std::printf("wall lit by the huge floor: %.5f (tessellated), %.5f (oversize weights)\n", reference, oversize);
   EXPECT_NEAR(oversize, reference, 0.05 * reference);
   settings_.flc_divergent = 0;
   EXPECT_LT(mean_red(render(BOUNCE_AOV_INDIRECT)), 0.1 * reference) << "the floor's light should be missing";

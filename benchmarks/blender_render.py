@@ -1,16 +1,36 @@
-"""Runs inside Blender (scripts/blender -b FILE.blend --python benchmarks/blender_render.py -- ...): renders the
-open scene with Bounce several times and writes what each render cost as JSON lines.
+"""Runs inside Blender for scripts/benchmark (benchmarks/bench.py):
 
-Each record: scene, resolution, samples, repeat, sync seconds, triangles, and per-stage GPU/CPU milliseconds
-(from the core's GL timer queries, via the add-on's final.last_render).
+    scripts/blender -b [SCENE.blend] --python benchmarks/blender_render.py -- JOBS.json
+
+renders the open scene once per job and repeat, and appends one JSON line per render to JOBS["records"].
+Works with the Python APIs of Blender 3.4, 4.x and 5.x.
+
+JOBS: {"records": path, "info": optional path (receives Blender's version and the GL renderer),
+       "extra_triangles": optional int (adds a flat grid of that many triangles, for sync throughput),
+       "warm_up": true (default) renders once, unrecorded, before the first job of each engine and method,
+       "jobs": [{"engine": "BOUNCE" | "CYCLES", "width", "height", "repeats",
+                 "bounce": {setting: value},            # scene.bounce.<setting>; the rest stays at defaults
+                 "cycles": {"samples", "seed", "device"},  # the oracle of DESIGN.md, exactly one diffuse bounce
+                 "exr": optional path (multilayer EXR of the first repeat), "meta": {...copied into records}}]}
 """
-import argparse
 import importlib
 import json
+import os
 import sys
 import time
 
 import bpy
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def load_test_helpers():
+    """The test suite's Cycles oracle and linear-output helpers, so benchmarks and tests share one recipe."""
+    sys.path.insert(0, os.path.join(REPO, "tests", "blender", "scripts"))
+    return importlib.import_module("bl_common"), importlib.import_module("render")
+
+
+bl_common, oracle = load_test_helpers()
 
 
 def addon_module(name):
@@ -22,53 +42,134 @@ def addon_module(name):
 
 
 def add_triangle_grid(triangles):
-    """A flat grid of about `triangles` triangles below the scene, for sync throughput."""
+    """A flat grid of about `triangles` triangles far below the scene: it costs sync time, not pixels."""
     side = max(1, int((triangles / 2) ** 0.5))
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=side + 1, y_subdivisions=side + 1, size=1.0,
                                     location=(0, 0, -100))
-    return side * side * 2
 
 
-def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--label", required=True)
-    parser.add_argument("--width", type=int, default=1280)
-    parser.add_argument("--height", type=int, default=720)
-    parser.add_argument("--samples", type=int, default=1)
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--extra-triangles", type=int, default=0, help="add a grid of this many triangles")
-    parser.add_argument("--out", required=True, help="JSON-lines file to append to")
-    args = parser.parse_args(argv)
+def gl_renderer():
+    native = addon_module("native")
+    try:
+        with native.Engine() as engine:
+            return engine.gl_info()
+    except Exception as error:  # the probe is informative only; a render would report the real problem
+        return f"unknown ({error})"
 
-    scene = bpy.context.scene
-    if args.extra_triangles:
-        add_triangle_grid(args.extra_triangles)
-    scene.render.engine = "BOUNCE"
-    scene.render.resolution_x, scene.render.resolution_y = args.width, args.height
-    scene.render.resolution_percentage = 100
-    scene.bounce.method = "DIRECT"
-    scene.bounce.samples = args.samples
+
+def use_cycles_gpu():
+    """Picks the first GPU backend Cycles finds; stays on the CPU (and says so) when there is none."""
+    prefs = bpy.context.preferences.addons["cycles"].preferences
+    for backend in ("OPTIX", "CUDA", "HIP", "ONEAPI", "METAL"):
+        try:
+            prefs.compute_device_type = backend
+        except TypeError:
+            continue
+        prefs.get_devices()
+        gpus = [d for d in prefs.devices if d.type == backend]
+        if gpus:
+            for device in prefs.devices:
+                device.use = device.type == backend
+            return "GPU"
+    print("benchmark: no GPU backend for Cycles, rendering the references on the CPU", flush=True)
+    return "CPU"
+
+
+def configure(scene, job):
+    bl_common.set_resolution(scene, job["width"], job["height"])
+    bl_common.linear_output(scene)
+    if job["engine"] == "CYCLES":
+        cycles = job.get("cycles", {})
+        oracle.cycles_oracle(scene, cycles.get("samples", 1024), bounces=1, seed=cycles.get("seed", 0))
+        if cycles.get("device") == "GPU":
+            scene.cycles.device = use_cycles_gpu()
+        for layer in scene.view_layers:
+            layer.use_pass_emit = True
+        # Alpha marks the pixels that see geometry: the error is measured over those only.
+        scene.render.film_transparent = True
+        # Bounce draws no light geometry; a camera-visible area light would be an error neither method shares.
+        for ob in scene.objects:
+            if ob.type == "LIGHT" and hasattr(ob, "visible_camera"):
+                ob.visible_camera = False
+    else:
+        scene.render.engine = "BOUNCE"
+        props = scene.bounce
+        # Unset every setting first so a job's result does not depend on the jobs before it.
+        for prop in props.bl_rna.properties:
+            if prop.identifier != "rna_type" and not prop.is_readonly:
+                props.property_unset(prop.identifier)
+        for name, value in job.get("bounce", {}).items():
+            if not hasattr(props, name):
+                raise ValueError(f"scene.bounce has no setting '{name}'")
+            setattr(props, name, value)
+
+
+def save_exr(scene, path):
+    """The Render Result as a multilayer EXR, written after the timed render; atomically, since it may be a
+    cached reference."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    partial = path + ".partial.exr"
+    bpy.data.images["Render Result"].save_render(filepath=partial, scene=scene)
+    os.replace(partial, path)
+
+
+def render_job(scene, job, records, index, count, warmed):
     final = addon_module("final")
-
-    with open(args.out, "a") as out:
-        for repeat in range(args.repeats):
-            # A fresh engine each repeat, as F12 makes one: every render syncs the whole scene.
-            start = time.perf_counter()
+    configure(scene, job)
+    method = (job["engine"], job.get("bounce", {}).get("method"))
+    if warmed is not None and method not in warmed:
+        # The first render of a method in a Blender process also creates the GL context and compiles its
+        # shaders: a one-off cost that is not the frame's, so an unrecorded render pays it.
+        warmed.add(method)
+        if job["engine"] == "CYCLES":  # loading Cycles' kernels is the one-off part; one sample pays it
+            samples, scene.cycles.samples = scene.cycles.samples, 1
             bpy.ops.render.render()
-            wall = time.perf_counter() - start
+            scene.cycles.samples = samples
+        else:
+            bpy.ops.render.render()
+    meta = job.get("meta", {})
+    name = meta.get("label", job["engine"])
+    for repeat in range(job.get("repeats", 1)):
+        final.last_render.clear()
+        # A fresh engine each render, as F12 makes one: every render syncs the whole scene.
+        start = time.perf_counter()
+        bpy.ops.render.render()
+        wall = time.perf_counter() - start
+        record = dict(meta, engine=job["engine"], width=job["width"], height=job["height"], repeat=repeat,
+                      wall_seconds=wall, blender=bpy.app.version_string)
+        if job["engine"] == "CYCLES":
+            record["samples"] = scene.cycles.samples
+        else:
             info = dict(final.last_render)
             if not info:
                 raise RuntimeError("the render produced no frame (see the report above)")
-            record = {
-                "scene": args.label, "width": info["width"], "height": info["height"], "samples": info["samples"],
-                "repeat": repeat, "wall_seconds": wall, "sync_seconds": info["sync_seconds"],
-                "render_seconds": info["render_seconds"], "triangles": info["triangles"],
-                "stages": {name: {"gpu_ms": gpu, "cpu_ms": cpu} for name, gpu, cpu in info["stages"]},
-            }
-            out.write(json.dumps(record) + "\n")
-            print(f"benchmark: {args.label} repeat {repeat}: sync {record['sync_seconds'] * 1e3:.0f} ms, "
-                  f"render {record['render_seconds'] * 1e3:.0f} ms")
+            record.update(samples=info["samples"], sync_seconds=info["sync_seconds"],
+                          render_seconds=info["render_seconds"], triangles=info["triangles"],
+                          instances=info.get("instances"),
+                          stages={stage: {"gpu_ms": gpu, "cpu_ms": cpu} for stage, gpu, cpu in info["stages"]})
+        if repeat == 0 and job.get("exr"):
+            save_exr(scene, job["exr"])
+            record["exr"] = job["exr"]
+        records.write(json.dumps(record) + "\n")
+        records.flush()
+        print(f"benchmark: [{index}/{count}] {name} repeat {repeat + 1}/{job.get('repeats', 1)}: "
+              f"wall {wall:.2f} s" + (f", sync {record['sync_seconds'] * 1e3:.0f} ms, render "
+                                      f"{record['render_seconds'] * 1e3:.0f} ms" if "sync_seconds" in record else ""),
+              flush=True)
+
+
+def main():
+    config = bl_common.load_json(bl_common.args()[0])
+    scene = bpy.context.scene
+    if config.get("info"):
+        bl_common.write_json(config["info"], {"blender": bpy.app.version_string, "gl": gl_renderer()})
+    if config.get("extra_triangles"):
+        add_triangle_grid(config["extra_triangles"])
+    jobs = config.get("jobs", [])
+    warmed = set() if config.get("warm_up", True) else None
+    with open(config["records"], "a") as records:
+        for index, job in enumerate(jobs, 1):
+            render_job(scene, job, records, index, len(jobs), warmed)
 
 
 main()

@@ -1,101 +1,189 @@
-"""Summarises benchmark records (JSON lines from blender_render.py): prints a Markdown table, writes a CSV and a
-plot. Run with /usr/bin/python3 (numpy, matplotlib from Debian)."""
-import argparse
+"""Records -> summary rows -> Markdown tables, CSV files and matplotlib plots, for scripts/benchmark.
+
+A record is one render (a JSON line of blender_render.py, plus the scene name, the swept parameters and the
+errors the driver measured). A row is the median over a configuration's repeats.
+"""
 import csv
-import json
+import math
 import statistics
-import sys
 from collections import defaultdict
 
-
-def load(path):
-    with open(path) as f:
-        return [json.loads(line) for line in f if line.strip()]
+# Stages that are not part of producing a frame (copying it back to Blender).
+NON_FRAME_STAGES = ("Readback",)
 
 
-def summarise(records):
-    """One row per (scene, width, height, samples): medians over repeats (repeat 0 is kept: it is the
-    F12 experience, sync included)."""
+def flatten(record):
+    """One flat dict per render: stage times become '<stage> ms' (total over the samples), swept parameters
+    their own columns."""
+    flat = {k: v for k, v in record.items() if k not in ("stages", "params")}
+    for name, value in (record.get("params") or {}).items():
+        flat[name] = value
+    stages = record.get("stages") or {}
+    for name, times in stages.items():
+        flat[f"{name} ms"] = times["gpu_ms"]
+    if stages:
+        flat["frame ms"] = sum(t["gpu_ms"] for n, t in stages.items() if n not in NON_FRAME_STAGES)
+    return flat
+
+
+def stage_names(records):
+    names = []
+    for record in records:
+        for name in record.get("stages") or {}:
+            if name not in names:
+                names.append(name)
+    return names
+
+
+def summarise(records, keys):
+    """Median of every numeric field over the records sharing `keys`; stage and frame times also per sample."""
     groups = defaultdict(list)
-    for r in records:
-        groups[(r["scene"], r["width"], r["height"], r["samples"])].append(r)
+    for record in records:
+        flat = flatten(record)
+        groups[tuple(flat.get(k) for k in keys)].append(flat)
     rows = []
-    for (scene, width, height, samples), runs in groups.items():
-        stage_names = list(runs[0]["stages"])
-        row = {
-            "scene": scene, "resolution": f"{width}x{height}", "samples": samples, "repeats": len(runs),
-            "triangles": runs[0]["triangles"],
-            "sync_ms": statistics.median(r["sync_seconds"] for r in runs) * 1e3,
-            "sync_s_per_mtri": statistics.median(r["sync_seconds"] for r in runs) * 1e6 / max(runs[0]["triangles"], 1),
-            "render_ms": statistics.median(r["render_seconds"] for r in runs) * 1e3,
-        }
-        for name in stage_names:
-            row[f"{name} gpu_ms"] = statistics.median(r["stages"][name]["gpu_ms"] for r in runs) / samples
-        row["frame gpu_ms"] = sum(row[f"{name} gpu_ms"] for name in stage_names if name != "Readback")
+    for key, runs in groups.items():
+        row = dict(zip(keys, key))
+        row["repeats"] = len(runs)
+        for field in runs[0]:
+            values = [r[field] for r in runs if isinstance(r.get(field), (int, float)) and not isinstance(r.get(field), bool)]
+            if field not in row and values:
+                row[field] = statistics.median(values)
+        if "sync_seconds" in row:
+            row["sync_ms"] = row["sync_seconds"] * 1e3
+        samples = row.get("samples") or 1
+        for field in list(row):
+            if field.endswith(" ms"):
+                row[field.replace(" ms", " ms/sample")] = row[field] / samples
         rows.append(row)
     return rows
 
 
-def markdown(rows):
-    columns = list(rows[0])
-    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+def fmt(value):
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "-"
+        if value == 0 or 0.01 <= abs(value) < 1e5:
+            return f"{value:.3g}" if abs(value) < 100 else f"{value:,.0f}"
+        return f"{value:.3g}"
+    if isinstance(value, int) and abs(value) >= 10000:
+        return f"{value:,}"
+    return "-" if value is None else str(value)
+
+
+def markdown(rows, columns, headers=None):
+    """A Markdown table of `columns` (only those some row has); numbers right-aligned."""
+    columns = [c for c in columns if any(c in r for r in rows)]
+    headers = headers or {}
+    numeric = [any(isinstance(r.get(c), (int, float)) for r in rows) for c in columns]
+    lines = ["| " + " | ".join(headers.get(c, c) for c in columns) + " |",
+             "| " + " | ".join("---:" if n else "---" for n in numeric) + " |"]
     for row in rows:
-        cells = [f"{row[c]:.2f}" if isinstance(row[c], float) else str(row[c]) for c in columns]
-        lines.append("| " + " | ".join(cells) + " |")
+        lines.append("| " + " | ".join(fmt(row.get(c)) for c in columns) + " |")
     return "\n".join(lines)
 
 
-def plot(rows, path, title):
+def write_csv(path, records):
+    flat = [flatten(r) for r in records]
+    fields = []
+    for row in flat:
+        fields += [k for k in row if k not in fields]
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(flat)
+
+
+def linear_fit(xs, ys):
+    """Least-squares y = a + b x; returns (a, b, r^2). Fewer than two distinct x: b is nan."""
+    n = len(xs)
+    if n < 2 or len(set(xs)) < 2:
+        return (ys[0] if ys else float("nan")), float("nan"), float("nan")
+    mx, my = sum(xs) / n, sum(ys) / n
+    sxx = sum((x - mx) ** 2 for x in xs)
+    sxy = sum((x - mx) * (y - my) for x, y in zip(xs, ys))
+    b = sxy / sxx
+    a = my - b * mx
+    ss_tot = sum((y - my) ** 2 for y in ys)
+    ss_res = sum((y - a - b * x) ** 2 for x, y in zip(xs, ys))
+    return a, b, (1 - ss_res / ss_tot) if ss_tot > 0 else float("nan")
+
+
+def crossing_time(curve, error):
+    """Where a (time, error) curve, in increasing sample order, first reaches `error`, interpolated linearly in
+    log-log between the two points that bracket it (sample order, not time order: timing noise may reorder
+    cheap renders). Returns (time, how) with how 'interpolated', 'below first point' or 'not reached'."""
+    points = [p for p in curve if p[1] > 0 and p[0] > 0 and not math.isnan(p[1])]
+    if not points:
+        return float("nan"), "no curve"
+    if error >= points[0][1]:
+        return points[0][0], "below first point"
+    for (t0, e0), (t1, e1) in zip(points, points[1:]):
+        if e1 <= error <= e0 and e0 != e1:
+            f = (math.log(error) - math.log(e0)) / (math.log(e1) - math.log(e0))
+            return math.exp(math.log(t0) + f * (math.log(t1) - math.log(t0))), "interpolated"
+    return float("nan"), "not reached"
+
+
+def pyplot():
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    stage_columns = [c for c in rows[0] if c.endswith(" gpu_ms") and c != "frame gpu_ms" and not c.startswith("Readback")]
-    labels = [f"{r['scene']}\n{r['resolution']}" for r in rows]
-    fig, (frame_ax, sync_ax) = plt.subplots(1, 2, figsize=(max(8, 3.2 * len(rows)), 4.2),
-                                            gridspec_kw={"width_ratios": [3, 2]})
-    bottom = [0.0] * len(rows)
-    for column in stage_columns:
-        values = [r[column] for r in rows]
-        frame_ax.bar(labels, values, bottom=bottom, label=column.replace(" gpu_ms", ""))
-        bottom = [b + v for b, v in zip(bottom, values)]
-    frame_ax.set_ylabel("GPU time per sample (ms)")
-    frame_ax.set_title("Frame, per stage", fontsize=10)
-    frame_ax.legend(fontsize=8)
-    bars = sync_ax.bar(labels, [r["sync_ms"] for r in rows], color="tab:gray")
-    for bar, row in zip(bars, rows):
-        sync_ax.annotate(f"{row['triangles']:,} tris", (bar.get_x() + bar.get_width() / 2, bar.get_height()),
-                         ha="center", va="bottom", fontsize=8)
-    sync_ax.set_yscale("log")
-    sync_ax.set_ylabel("Blender -> core sync (ms)")
-    sync_ax.set_title("Scene sync (first render)", fontsize=10)
-    for ax in (frame_ax, sync_ax):
-        ax.tick_params(axis="x", labelsize=8)
+    return plt
+
+
+def save(fig, path, title):
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
+    pyplot().close(fig)
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("records")
-    parser.add_argument("--csv", required=True)
-    parser.add_argument("--markdown", required=True)
-    parser.add_argument("--plot", required=True)
-    parser.add_argument("--title", default="Bounce per-stage GPU time")
-    args = parser.parse_args()
-    rows = summarise(load(args.records))
-    if not rows:
-        sys.exit("no benchmark records")
-    with open(args.csv, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    table = markdown(rows)
-    with open(args.markdown, "w") as f:
-        f.write(table + "\n")
-    print(table)
-    plot(rows, args.plot, args.title)
-    print(f"wrote {args.csv}, {args.markdown}, {args.plot}")
+def plot_stage_bars(rows, stages, path, title, per="ms/sample"):
+    """Stacked per-stage GPU time per configuration, and the sync time beside it (log scale)."""
+    plt = pyplot()
+    labels = [row["_label"] for row in rows]
+    fig, (frame_ax, sync_ax) = plt.subplots(1, 2, figsize=(max(8, 2.2 * len(rows) + 3), 4.4),
+                                            gridspec_kw={"width_ratios": [3, 2]})
+    bottom = [0.0] * len(rows)
+    for stage in stages:
+        if stage in NON_FRAME_STAGES:
+            continue
+        values = [row.get(f"{stage} {per}", 0.0) for row in rows]
+        frame_ax.bar(labels, values, bottom=bottom, label=stage)
+        bottom = [b + v for b, v in zip(bottom, values)]
+    frame_ax.set_ylabel(f"GPU time ({per})")
+    frame_ax.set_title("Frame, per stage", fontsize=10)
+    frame_ax.legend(fontsize=8)
+    bars = sync_ax.bar(labels, [row.get("sync_seconds", 0) * 1e3 for row in rows], color="tab:gray")
+    for bar, row in zip(bars, rows):
+        sync_ax.annotate(f"{int(row.get('triangles', 0)):,} tris", (bar.get_x() + bar.get_width() / 2,
+                                                                    bar.get_height()),
+                         ha="center", va="bottom", fontsize=7)
+    sync_ax.set_yscale("log")
+    sync_ax.set_ylabel("Blender -> core sync (ms)")
+    sync_ax.set_title("Scene sync", fontsize=10)
+    for ax in (frame_ax, sync_ax):
+        ax.tick_params(axis="x", labelsize=7)
+    save(fig, path, title)
 
 
-main()
+def plot_lines(series, path, title, xlabel, panels, logx=False, logy=()):
+    """Line plots, one panel per (ylabel, field): `series` maps a legend label to (xs, {field: ys})."""
+    plt = pyplot()
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.2), squeeze=False)
+    for ax, (ylabel, field) in zip(axes[0], panels):
+        for label, (xs, fields) in series.items():
+            ys = fields.get(field)
+            if ys and any(y is not None and not (isinstance(y, float) and math.isnan(y)) for y in ys):
+                ax.plot(xs, ys, marker="o", label=label)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        if logx:
+            ax.set_xscale("log", base=2)
+        if field in logy:
+            ax.set_yscale("log")
+        ax.grid(True, alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=8)
+    save(fig, path, title)

@@ -1,0 +1,213 @@
+"""scripts/benchmark: accuracy and time of Bounce's methods, by suite. Run with /usr/bin/python3 (3.11: numpy,
+OpenImageIO, matplotlib); Blender renders through scripts/blender (set BLENDER for another Blender).
+
+Each suite renders its scenes through Blender + Bounce over a parameter sweep, records per-stage GPU times,
+render wall time and (where the suite measures accuracy) errors against cached Cycles one-bounce references,
+and writes into --out (default build/benchmark/<suite>/): records.csv (one row per render), records.jsonl,
+summary.csv (medians per configuration), <suite>.md (the table printed at the end), <suite>.png, renders/
+(EXRs) and logs/.
+"""
+import argparse
+import itertools
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import images  # noqa: E402
+import report  # noqa: E402
+import runner  # noqa: E402
+from runner import log  # noqa: E402
+from suites import SUITES  # noqa: E402
+
+
+def parse_value(text):
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def parse_sets(items):
+    """['name=v1,v2', ...] -> {name: [v1, v2]}."""
+    sets = {}
+    for item in items:
+        name, sep, values = item.partition("=")
+        if not sep or not values:
+            sys.exit(f"scripts/benchmark: --set wants name=value[,value...], got '{item}'")
+        sets[name.strip()] = [parse_value(v.strip()) for v in values.split(",")]
+    return sets
+
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(
+        prog="scripts/benchmark", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="suites:\n" + "\n".join(f"  {s.name:11} {s.summary}" for s in SUITES.values()))
+    parser.add_argument("--suite", choices=sorted(SUITES), default="sync")
+    parser.add_argument("--method", help="scene.bounce.method of the measured renders (default: the suite's)")
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=V[,V...]",
+                        help="a scene.bounce setting; several values sweep it (repeatable; sweeps multiply)")
+    parser.add_argument("--scenes", help="comma-separated scene names instead of the suite's: cornell, sponza, "
+                        "grid, grid-100k, dragons-N")
+    parser.add_argument("--resolution", help="WxH for every scene instead of the suite's")
+    parser.add_argument("--repeats", type=int, help="renders per configuration (timings are medians)")
+    parser.add_argument("--copies", help="triangles suite: dragon copies, e.g. 1,2,5,10 (100k triangles each)")
+    parser.add_argument("--instancing", choices=("collection", "linked"), default="collection",
+                        help="how the dragon copies share their mesh")
+    parser.add_argument("--cycles-samples", help="error-time suite: Cycles sample counts, e.g. 1,2,4,8")
+    parser.add_argument("--reference-samples", type=int, help="Cycles samples of the references (default 1024, "
+                        "--quick 32)")
+    parser.add_argument("--cycles-device", choices=("CPU", "GPU"), default="CPU")
+    parser.add_argument("--references", type=Path, help="reference cache folder "
+                        "(default build/benchmark/references)")
+    parser.add_argument("--cpu-reference", action="append", default=[], metavar="SCENE=EXR",
+                        help="a second reference for SCENE (the CPU model), compared as cpuref_* columns")
+    parser.add_argument("--no-errors", action="store_true", help="measure time only")
+    parser.add_argument("--quick", action="store_true", help="small resolutions, short sweeps, one repeat")
+    parser.add_argument("--out", type=Path)
+    return parser.parse_args(argv)
+
+
+class Context:
+    """What a suite's report needs: the suite, its output folder, the swept setting names, a title."""
+
+    def __init__(self, suite, out, swept, title):
+        self.suite, self.out, self.swept, self.title = suite, out, swept, title
+
+    @staticmethod
+    def summarise(records, keys):
+        return report.summarise([r for r in records if r.get("role") == "measure"], keys)
+
+
+def plan_scenes(args, suite, cache):
+    if args.scenes:
+        known = {name: (w, h) for name, w, h in suite.scenes + suite.quick_scenes}
+        fallback = (suite.quick_scenes if args.quick else suite.scenes)[0][1:]
+        wanted = [(name, *known.get(name, fallback)) for name in args.scenes.split(",")]
+    elif args.copies:
+        size = (suite.quick_scenes if args.quick else suite.scenes)[0][1:]
+        wanted = [(f"dragons-{n}", *size) for n in args.copies.split(",")]
+    else:
+        wanted = suite.quick_scenes if args.quick else suite.scenes
+    if args.resolution:
+        width, height = (int(v) for v in args.resolution.lower().split("x"))
+        wanted = [(name, width, height) for name, _, _ in wanted]
+    scenes = []
+    for name, width, height in wanted:
+        if name.startswith("dragons-"):
+            scene = runner.dragon_scene(int(name.split("-")[1]), args.instancing, cache)
+        else:
+            scene = runner.standard_scene(name, cache)
+        scenes.append((scene, width, height))
+    return scenes
+
+
+def sweep(args, suite):
+    """The configurations: the product of every swept setting; the names that vary, for the tables."""
+    sets = dict(suite.sets)
+    if args.quick:
+        sets.update(suite.quick_sets)
+    sets["method"] = [args.method or suite.method]
+    if suite.direct_baseline and "DIRECT" not in sets["method"]:
+        sets["method"] = sets["method"] + ["DIRECT"]
+    sets.update(parse_sets(args.set))
+    names = list(sets)
+    configs = [dict(zip(names, values)) for values in itertools.product(*(sets[n] for n in names))]
+    return configs, [n for n in names if len(sets[n]) > 1 and n != "method"]
+
+
+def jobs_for(scene, width, height, configs, args, suite, renders, errors):
+    repeats = args.repeats or (1 if args.quick else suite.repeats)
+    jobs = []
+    for i, config in enumerate(configs):
+        label = f"{scene.name} {width}x{height} " + " ".join(f"{k}={v}" for k, v in config.items())
+        exr = renders / f"{scene.name}-{width}x{height}-bounce-{i:03d}.exr" if errors else None
+        meta = {"role": "measure", "scene": scene.name, "label": label, "method": config["method"],
+                "params": config}
+        jobs.append(runner.bounce_job(width, height, config, repeats, exr, meta))
+    cycles_samples = (args.cycles_samples and [int(v) for v in args.cycles_samples.split(",")]) or \
+        (suite.quick_cycles_samples if args.quick else suite.cycles_samples)
+    for samples in cycles_samples:
+        exr = renders / f"{scene.name}-{width}x{height}-cycles-{samples:04d}.exr"
+        meta = {"role": "measure", "scene": scene.name, "label": f"{scene.name} {width}x{height} Cycles {samples}",
+                "method": "CYCLES", "params": {"samples": samples}}
+        jobs.append(runner.cycles_job(width, height, samples, runner.CYCLES_SEED, args.cycles_device, exr, meta))
+    return jobs
+
+
+class Errors:
+    """Loads each reference once and measures renders against it (and the CPU-model reference, if given)."""
+
+    def __init__(self, references, cpu_references):
+        self.references, self.cpu_references, self.loaded = references, cpu_references, {}
+
+    def _load(self, path):
+        if path not in self.loaded:
+            self.loaded[path] = images.load(path)
+        return self.loaded[path]
+
+    def measure(self, scene, record):
+        if not record.get("exr"):
+            return {}
+        image = images.load(record["exr"])
+        errors = images.compare(image, self._load(self.references.path(scene, record["width"], record["height"])), "")
+        if scene.name in self.cpu_references:
+            errors.update(images.compare(image, self._load(self.cpu_references[scene.name]), "cpuref_"))
+        return errors
+
+
+def main(argv=None):
+    args = parse_args(sys.argv[1:] if argv is None else argv)
+    suite = SUITES[args.suite]
+    started = time.perf_counter()
+    out = (args.out or runner.BUILD / "benchmark" / suite.name).resolve()
+    for folder in ("renders", "logs"):
+        runner.clear(out / folder)
+    runner.ensure_built()
+    probe = runner.probe(out / "logs")
+    log(f"Blender {probe['blender']}, GL {probe['gl']}")
+    cache = runner.BUILD / "benchmark" / "scenes"
+    scenes = plan_scenes(args, suite, cache)
+    configs, swept = sweep(args, suite)
+    errors = suite.errors and not args.no_errors
+    references = runner.References(args.references or runner.BUILD / "benchmark" / "references", probe["blender"],
+                                   args.reference_samples or (32 if args.quick else 1024), args.cycles_device)
+    cpu_references = dict(item.split("=", 1) for item in args.cpu_reference)
+    measure = Errors(references, cpu_references)
+
+    records = []
+    for index, (scene, width, height) in enumerate(scenes, 1):
+        jobs = jobs_for(scene, width, height, configs, args, suite, out / "renders", errors)
+        if errors:
+            jobs = references.missing_jobs(scene, [(width, height)]) + jobs
+        renders = sum(job["repeats"] for job in jobs)
+        log(f"scene {index}/{len(scenes)}: {scene.name} at {width}x{height}, {renders} renders")
+        scene_start = time.perf_counter()
+        for record in runner.run_blender(scene, jobs, out / "logs"):
+            if record.get("role") == "measure":
+                record.update(suite=suite.name, **measure.measure(scene, record) if errors else {})
+                records.append(record)
+        log(f"scene {scene.name} done in {time.perf_counter() - scene_start:.1f} s")
+
+    with open(out / "records.jsonl", "w") as f:
+        f.writelines(json.dumps(r) + "\n" for r in records)
+    report.write_csv(out / "records.csv", records)
+    title = (f"Bounce {suite.name}: {probe['gl'].split(' |')[0]}, {os.cpu_count()} CPU cores, "
+             f"Blender {probe['blender']}" + (" (quick)" if args.quick else ""))
+    ctx = Context(suite, out, swept, title)
+    text = suite.report(ctx, records, report.stage_names(records))
+    summary = ctx.summarise(records, ["scene", "engine", "method", "width", "height", *swept, "samples"])
+    report.write_csv(out / "summary.csv", summary)
+    elapsed = time.perf_counter() - started
+    document = (f"## {suite.name}\n\n{suite.summary}. {title}; {elapsed:.0f} s in all.\n\n{text}\n")
+    (out / f"{suite.name}.md").write_text(document)
+    print(document)
+    log(f"wrote {out}/records.csv, summary.csv, {suite.name}.md, {suite.name}.png ({elapsed:.0f} s)")
+
+
+if __name__ == "__main__":
+    main()

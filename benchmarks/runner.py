@@ -1,0 +1,174 @@
+"""Scene building, Blender runs and the Cycles reference cache of scripts/benchmark (host Python 3.11).
+
+Blender runs (scripts/blender, so the freshly built add-on is enabled) render whole job lists at once: one
+Blender start per scene, not per render. Scenes are built with the host Blender (3.4): the shared setups'
+common.py does not run on 4.2+. Set BOUNCE_SCENE_BLENDER to use another one.
+"""
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+HERE = REPO / "benchmarks"
+BUILD = Path(os.environ.get("BOUNCE_BUILD_DIR") or REPO / "build").resolve()
+SHARED = Path(os.environ.get("BOUNCE_SHARED_DIR") or REPO.parent / "shared").resolve()
+SETUPS = SHARED / "scenes" / "setups"
+RENDER_SCRIPT = HERE / "blender_render.py"
+DRAGON_SCRIPT = HERE / "dragon_scene.py"
+# Seeds differ so a reference's noise is independent of the Cycles renders measured against it.
+REFERENCE_SEED = 7919
+CYCLES_SEED = 0
+# Bumped when the reference recipe changes, so cached references are not reused across recipes.
+REFERENCE_RECIPE = "oracle-k1-v1"
+
+
+def log(message):
+    print(f"benchmark: {message}", flush=True)
+
+
+def scene_blender():
+    return os.environ.get("BOUNCE_SCENE_BLENDER") or ("/usr/bin/blender" if Path("/usr/bin/blender").exists()
+                                                      else "blender")
+
+
+def _digest(*parts):
+    h = hashlib.sha256()
+    for part in parts:
+        h.update(part if isinstance(part, bytes) else str(part).encode())
+    return h.hexdigest()[:12]
+
+
+class Scene:
+    """A scene to render: `name` for tables, `blend` (None: the factory scene), `key` for the reference cache
+    (changes when the script that builds the scene changes), `extra_triangles` for the sync grid."""
+
+    def __init__(self, name, blend=None, key=None, extra_triangles=0, triangles_hint=None):
+        self.name, self.blend, self.key = name, blend, key or name
+        self.extra_triangles, self.triangles_hint = extra_triangles, triangles_hint
+
+
+def _build(name, script, args, cache):
+    blend = cache / f"{name}.blend"
+    key = f"{name}-{_digest(Path(script).read_bytes(), *args)}"
+    stamp = cache / f"{name}.key"
+    if blend.exists() and stamp.exists() and stamp.read_text() == key:
+        return blend, key
+    cache.mkdir(parents=True, exist_ok=True)
+    log(f"building scene {name} with {scene_blender()}")
+    command = [scene_blender(), "-b", "--factory-startup", "--python-exit-code", "1", "--python", str(script),
+               "--", "--out", str(blend), *map(str, args)]
+    logfile = cache / f"{name}.log"
+    with open(logfile, "w") as out:
+        if subprocess.run(command, stdout=out, stderr=subprocess.STDOUT, cwd=REPO).returncode != 0:
+            sys.exit(f"scripts/benchmark: building {name} failed, see {logfile}")
+    stamp.write_text(key)
+    return blend, key
+
+
+def standard_scene(name, cache):
+    """cornell, sponza (from ../shared/scenes/setups) or grid (the factory scene plus 1M triangles)."""
+    if name == "grid":
+        return Scene("grid-1M", extra_triangles=1_000_000)
+    if name.startswith("grid-"):  # grid-<triangles>, e.g. grid-100k for quick runs
+        count = int(float(name[5:].lower().replace("k", "e3").replace("m", "e6")))
+        return Scene(name, extra_triangles=count)
+    script = SETUPS / f"{name}.py"
+    if not script.exists():
+        sys.exit(f"scripts/benchmark: no scene '{name}' ({script} not found)")
+    blend, key = _build(name, script, [], cache)
+    return Scene(name, blend, key)
+
+
+def dragon_scene(copies, instancing, cache):
+    name = f"dragons-{copies}-{instancing}"
+    blend, key = _build(name, DRAGON_SCRIPT, ["--copies", copies, "--instancing", instancing], cache)
+    return Scene(name, blend, key, triangles_hint=copies * 100_000 + 2)
+
+
+def blender_command(blend, jobs_file):
+    scene = [str(blend)] if blend else ["--factory-startup"]
+    return [str(REPO / "scripts" / "blender"), "-b", *scene, "--python-exit-code", "1",
+            "--python", str(RENDER_SCRIPT), "--", str(jobs_file)]
+
+
+def run_blender(scene, jobs, work, info=None):
+    """Renders `jobs` in one Blender run; returns the records it wrote. Progress lines pass through."""
+    work.mkdir(parents=True, exist_ok=True)
+    stem = f"{scene.name}-{int(time.time() * 1000) % 10**9}"
+    records_file = work / f"{stem}.records.jsonl"
+    records_file.unlink(missing_ok=True)
+    jobs_file = work / f"{stem}.jobs.json"
+    jobs_file.write_text(json.dumps({"records": str(records_file), "info": str(info) if info else None,
+                                     "extra_triangles": scene.extra_triangles, "jobs": jobs}, indent=1))
+    logfile = work / f"{stem}.log"
+    env = dict(os.environ, BOUNCE_BUILD_DIR=str(BUILD))
+    with open(logfile, "w") as out:
+        process = subprocess.Popen(blender_command(scene.blend, jobs_file), cwd=REPO, env=env, text=True,
+                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, errors="replace")
+        for line in process.stdout:
+            out.write(line)
+            if line.startswith("benchmark:") or "Error" in line:
+                print(f"  {scene.name}: {line.rstrip()}", flush=True)
+        process.wait()
+    if process.returncode != 0:
+        sys.exit(f"scripts/benchmark: Blender failed on {scene.name} (exit {process.returncode}), see {logfile}")
+    if not records_file.exists():
+        return []
+    return [json.loads(line) for line in records_file.read_text().splitlines() if line.strip()]
+
+
+def probe(work):
+    """Blender's version and the GL renderer Bounce gets, from one empty Blender run."""
+    info = work / "probe.json"
+    run_blender(Scene("probe"), [], work, info=info)
+    return json.loads(info.read_text())
+
+
+class References:
+    """Cycles one-bounce references, cached as EXRs keyed by scene, resolution, Blender version, samples."""
+
+    def __init__(self, folder, blender_version, samples, device):
+        self.folder, self.blender_version, self.samples, self.device = Path(folder), blender_version, samples, device
+
+    def path(self, scene, width, height):
+        return self.folder / (f"{scene.key}-{width}x{height}-blender{self.blender_version}-"
+                              f"cycles{self.samples}-{REFERENCE_RECIPE}.exr")
+
+    def missing_jobs(self, scene, resolutions):
+        """Jobs that render the references `scene` lacks at `resolutions` (so they join the scene's run)."""
+        jobs = []
+        for width, height in sorted(set(resolutions)):
+            path = self.path(scene, width, height)
+            if path.exists():
+                log(f"reference {path.name}: cached")
+                continue
+            log(f"reference {path.name}: rendering with Cycles, {self.samples} samples")
+            jobs.append(cycles_job(width, height, self.samples, REFERENCE_SEED, self.device, path,
+                                   {"label": f"reference {width}x{height}", "role": "reference"}))
+        return jobs
+
+
+def cycles_job(width, height, samples, seed, device, exr, meta, repeats=1):
+    return {"engine": "CYCLES", "width": width, "height": height, "repeats": repeats, "exr": str(exr) if exr else None,
+            "cycles": {"samples": samples, "seed": seed, "device": device}, "meta": meta}
+
+
+def bounce_job(width, height, settings, repeats, exr, meta):
+    return {"engine": "BOUNCE", "width": width, "height": height, "repeats": repeats, "bounce": settings,
+            "exr": str(exr) if exr else None, "meta": meta}
+
+
+def ensure_built():
+    if not (BUILD / "addon" / "bounce" / "libbounce.so").exists():
+        log(f"no build in {BUILD}: running scripts/build")
+        subprocess.run([str(REPO / "scripts" / "build"), str(BUILD)], check=True)
+
+
+def clear(folder):
+    shutil.rmtree(folder, ignore_errors=True)
+    folder.mkdir(parents=True, exist_ok=True)

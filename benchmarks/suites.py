@@ -1,0 +1,199 @@
+"""The suites of scripts/benchmark: what each renders (scenes, resolutions, default sweeps; smaller with
+--quick) and how its records become tables, plots and statements. Each suite's report gets the summary rows
+and writes into the output folder; it returns the Markdown it wants printed.
+"""
+from dataclasses import dataclass, field
+
+import report
+from images import METRIC_TEXT
+
+ERROR_COLUMNS = ("combined_rel_rmse", "combined_rel_mae", "indirect_rel_rmse", "indirect_rel_mae",
+                 "cpuref_combined_rel_rmse", "cpuref_combined_rel_mae", "cpuref_indirect_rel_rmse",
+                 "cpuref_indirect_rel_mae")
+
+
+@dataclass
+class Suite:
+    name: str
+    summary: str
+    method: str
+    scenes: list          # [(scene name, width, height)]
+    quick_scenes: list
+    sets: dict = field(default_factory=dict)        # setting -> values swept (one value: fixed)
+    quick_sets: dict = field(default_factory=dict)
+    repeats: int = 3
+    errors: bool = True
+    cycles_samples: tuple = ()                      # Cycles renders measured against the reference too
+    quick_cycles_samples: tuple = ()
+    direct_baseline: bool = False                   # also render method DIRECT, for frame / direct-only ratios
+    report: object = None
+
+
+def _plural(count, noun):
+    return f"{count} {noun}" + ("" if count == 1 else "s")
+
+
+def _label(row, keys):
+    return " ".join(f"{row[k]}" for k in keys if row.get(k) is not None)
+
+
+def _time_columns(rows, stages):
+    return [f"{s} ms/sample" for s in stages] + ["frame ms/sample", "sync_ms", "wall_seconds"]
+
+
+HEADERS = {"sync_ms": "sync ms", "combined_rel_rmse": "combined rel. RMSE", "combined_rel_mae": "combined rel. MAE",
+           "indirect_rel_rmse": "indirect rel. RMSE", "indirect_rel_mae": "indirect rel. MAE",
+           "cpuref_combined_rel_rmse": "CPU-model ref: combined rel. RMSE",
+           "cpuref_combined_rel_mae": "CPU-model ref: combined rel. MAE",
+           "cpuref_indirect_rel_rmse": "CPU-model ref: indirect rel. RMSE",
+           "cpuref_indirect_rel_mae": "CPU-model ref: indirect rel. MAE", "wall_seconds": "wall s", "render_seconds": "render s",
+           "frame ms/sample": "frame GPU ms/sample", "flc_vpls_per_pixel": "N_avg", "flc_tiling": "tiling"}
+
+
+def _errors_note(rows):
+    if any(any(c in r for c in ERROR_COLUMNS) for r in rows):
+        return f"\n\nErrors against the Cycles one-bounce reference: {METRIC_TEXT}."
+    return ""
+
+
+def sweep_report(ctx, records, stages):
+    """Any sweep: one row per scene and swept value; frame time and error against the swept value."""
+    swept = ctx.swept or ["method"]
+    rows = ctx.summarise(records, ["scene", "method", "width", "height", *swept])
+    columns = ["scene", "method", "width", "height", *swept, "samples", *_time_columns(rows, stages),
+               *ERROR_COLUMNS]
+    table = report.markdown(rows, columns, HEADERS)
+    x = swept[-1]
+    numeric = all(isinstance(r.get(x), (int, float)) for r in rows)
+    if numeric:
+        series = {}
+        for row in sorted(rows, key=lambda r: r[x]):
+            label = _label(row, ["scene", "method"] + [k for k in swept[:-1]])
+            xs, fields = series.setdefault(label, ([], {}))
+            xs.append(row[x])
+            for f in ("frame ms/sample", "wall_seconds", "combined_rel_rmse", "indirect_rel_rmse"):
+                fields.setdefault(f, []).append(row.get(f, float("nan")))
+        panels = [("frame GPU time per sample (ms)", "frame ms/sample"), ("render wall time (s)", "wall_seconds")]
+        if any("combined_rel_rmse" in r for r in rows):
+            panels.append(("relative RMSE (combined)", "combined_rel_rmse"))
+        report.plot_lines(series, ctx.out / f"{ctx.suite.name}.png", ctx.title, HEADERS.get(x, x), panels,
+                          logx=x == "flc_vpls_per_pixel")
+    return table + _errors_note(rows)
+
+
+def stages_report(ctx, records, stages):
+    """Per-stage GPU time per configuration, sync, and each method's frame time over the direct-only frame."""
+    keys = ["scene", "method", "width", "height", *[k for k in ctx.swept if k != "method"]]
+    rows = ctx.summarise(records, keys)
+    direct = {(r["scene"], r["width"], r["height"]): r for r in rows if r.get("method") == "DIRECT"}
+    for row in rows:
+        base = direct.get((row["scene"], row["width"], row["height"]))
+        if base and base.get("frame ms/sample") and len({r["method"] for r in rows}) > 1:
+            row["frame / direct-only frame"] = row["frame ms/sample"] / base["frame ms/sample"]
+        row["sync s/Mtri"] = row.get("sync_seconds", 0) * 1e6 / max(row.get("triangles", 1), 1)
+        row["_label"] = _label(row, keys[:2]) + f"\n{row['width']}x{row['height']}"
+    columns = ["scene", "method", "width", "height", *keys[4:], "samples", "triangles", "sync s/Mtri",
+               *_time_columns(rows, stages), "frame / direct-only frame", *ERROR_COLUMNS]
+    report.plot_stage_bars(rows, stages, ctx.out / f"{ctx.suite.name}.png", ctx.title)
+    return report.markdown(rows, columns, HEADERS) + _errors_note(rows)
+
+
+def triangles_report(ctx, records, stages):
+    """Frame and sync time against the triangle count, with least-squares slopes."""
+    rows = ctx.summarise(records, ["scene", "method", "width", "height", *ctx.swept])
+    rows.sort(key=lambda r: (r.get("method"), r.get("triangles", 0)))
+    lines = [report.markdown(rows, ["scene", "method", "width", "height", "triangles", "instances", "samples",
+                                    *_time_columns(rows, stages)], HEADERS), ""]
+    series = {}
+    for method in sorted({r["method"] for r in rows}):
+        mine = [r for r in rows if r["method"] == method]
+        mtris = [r["triangles"] / 1e6 for r in mine]
+        xs, fields = series.setdefault(method, (mtris, {}))
+        for f in ("frame ms/sample", "sync_seconds"):
+            fields[f] = [r.get(f, float("nan")) for r in mine]
+            a, b, r2 = report.linear_fit(mtris, fields[f])
+            unit, scale = ("ms", 1) if f.endswith("ms/sample") else ("ms", 1e3)
+            lines.append(f"- {method}, {'frame GPU time per sample' if scale == 1 else 'Blender -> core sync'}: "
+                         f"{b * scale:.3g} {unit} per million triangles (intercept {a * scale:.3g} {unit}, "
+                         f"R² {r2:.3f}, least squares over {len(mine)} points)")
+    report.plot_lines(series, ctx.out / f"{ctx.suite.name}.png", ctx.title, "million triangles (instanced)",
+                      [("frame GPU time per sample (ms)", "frame ms/sample"), ("sync (s)", "sync_seconds")])
+    return "\n".join(lines)
+
+
+def error_time_report(ctx, records, stages):
+    """Error against time for Bounce's sample sweep and Cycles' sample sweep; how long Cycles needs to reach
+    Bounce's error, interpolated on the Cycles curve (log-log)."""
+    rows = ctx.summarise(records, ["scene", "engine", "method", "width", "height", "samples"])
+    rows.sort(key=lambda r: (r["scene"], r["engine"], r.get("method") or "", r["samples"]))
+    table = report.markdown(rows, ["scene", "engine", "method", "width", "height", "samples", "wall_seconds",
+                                   "render_seconds", "frame ms/sample", *ERROR_COLUMNS], HEADERS)
+    lines = [table, "", "Time is the wall time of Blender's render operator (scene sync included, EXR writing "
+             "not), median over the repeats. Cycles time to reach Bounce's error, interpolated in log-log between "
+             "the two Cycles sample counts that bracket it:", ""]
+    plt = report.pyplot()
+    scenes = sorted({r["scene"] for r in rows})
+    fig, axes = plt.subplots(1, len(scenes), figsize=(5.5 * len(scenes), 4.4), squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        cycles = [r for r in rows if r["scene"] == scene and r["engine"] == "CYCLES"]
+        for metric, style in (("combined_rel_rmse", "-"), ("indirect_rel_rmse", "--")):
+            curve = [(r["wall_seconds"], r[metric]) for r in cycles if metric in r]
+            if curve:
+                ax.plot(*zip(*curve), style, marker="o", color="tab:gray", label=f"Cycles {metric[:-9]}")
+            for method in sorted({r["method"] for r in rows if r["scene"] == scene and r["engine"] == "BOUNCE"}):
+                mine = [r for r in rows if r["scene"] == scene and r["engine"] == "BOUNCE" and r["method"] == method
+                        and metric in r]
+                if not mine:
+                    continue
+                ax.plot([r["wall_seconds"] for r in mine], [r[metric] for r in mine], style, marker="s",
+                        label=f"Bounce {method} {metric[:-9]}")
+                for r in mine:
+                    t, how = report.crossing_time(curve, r[metric])
+                    if how == "interpolated":
+                        verdict = f"Cycles needs {t:.3g} s ({t / r['wall_seconds']:.3g}x Bounce's time)"
+                    elif how == "below first point":
+                        verdict = f"Cycles is already below it at 1 sample ({t:.3g} s)"
+                    else:
+                        verdict = f"Cycles does not reach it within {max(c['samples'] for c in cycles)} samples"
+                    lines.append(f"- {scene}, {metric[:-9]}: Bounce {method} at {_plural(r['samples'], 'sample')} has relative "
+                                 f"RMSE {r[metric]:.3g} in {r['wall_seconds']:.3g} s; {verdict}.")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("render wall time (s)")
+        ax.set_ylabel("relative RMSE")
+        ax.set_title(scene, fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    report.save(fig, ctx.out / f"{ctx.suite.name}.png", ctx.title)
+    return "\n".join(lines) + _errors_note(rows)
+
+
+_DRAGONS = (1, 2, 5, 10, 20, 50, 100)
+_QUICK_DRAGONS = (1, 2, 3)
+
+SUITES = {s.name: s for s in (
+    Suite("sync", "sync time and per-stage GPU time of the standard scenes, plus sync of a 1M-triangle grid "
+          "(the original scripts/benchmark)", "DIRECT",
+          [("cornell", 1280, 720), ("sponza", 1280, 720), ("grid", 320, 180)],
+          [("cornell", 128, 72), ("sponza", 128, 72), ("grid-100k", 64, 36)],
+          sets={"samples": [1]}, repeats=5, errors=False, report=stages_report),
+    Suite("flc-vpls", "frame time and error against N_avg (flc_vpls_per_pixel) on the Cornell box", "FLC",
+          [("cornell", 1024, 1024)], [("cornell", 64, 64)],
+          sets={"samples": [1], "flc_vpls_per_pixel": [64, 128, 256, 512, 1024]},
+          quick_sets={"flc_vpls_per_pixel": [64, 256]}, report=sweep_report),
+    Suite("flc-tiling", "frame time and error against the interleaved-sampling level (flc_tiling)", "FLC",
+          [("cornell", 1024, 1024)], [("cornell", 64, 64)],
+          sets={"samples": [1], "flc_tiling": [0, 1, 2, 3]}, quick_sets={"flc_tiling": [0, 2]},
+          report=sweep_report),
+    Suite("stages", "per-stage GPU time at 1280x720 and the method's frame over a direct-only frame", "FLC",
+          [("cornell", 1280, 720), ("sponza", 1280, 720)], [("cornell", 128, 72), ("sponza", 128, 72)],
+          sets={"samples": [1]}, direct_baseline=True, report=stages_report),
+    Suite("triangles", "frame time against the triangle count: instanced Stanford dragons, 100k to 10M", "FLC",
+          [(f"dragons-{n}", 1280, 720) for n in _DRAGONS], [(f"dragons-{n}", 96, 54) for n in _QUICK_DRAGONS],
+          sets={"samples": [1]}, errors=False, report=triangles_report),
+    Suite("error-time", "error against render time: Bounce at 1-64 samples, Cycles at 1-256 samples", "FLC",
+          [("cornell", 512, 512), ("sponza", 640, 360)], [("cornell", 64, 64), ("sponza", 96, 54)],
+          sets={"samples": [1, 4, 16, 64]}, quick_sets={"samples": [1, 4]},
+          cycles_samples=tuple(2 ** i for i in range(9)), quick_cycles_samples=(1, 2, 4, 8),
+          report=error_time_report),
+)}

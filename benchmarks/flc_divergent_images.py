@@ -114,7 +114,7 @@ def main():
     ev = args.exposure if args.exposure is not None else round(auto_exposure(combined["on"], 85.0) * 2) / 2
     ev_ind = (args.indirect_exposure if args.indirect_exposure is not None
               else round(auto_exposure(indirect["on"], 99.0) * 2) / 2)
-    labels = (f"with divergent pipeline (flc_divergent on)", f"without (flc_divergent off)")
+    labels = ("with divergent pipeline (flc_divergent on)", "without (flc_divergent off)")
     side_by_side(display(combined["on"], ev), display(combined["off"], ev),
                  [f"Combined, {l}, {ev:+g} EV" for l in labels], args.images / "flc-sponza-divergent.png")
     side_by_side(display(indirect["on"], ev_ind), display(indirect["off"], ev_ind),

@@ -101,14 +101,14 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
           static_cast<uint32_t>(s),
           seed};
       gbuffer_.execute(context);
+      if (flc) flc_.generate(context);
+      direct_.execute(context, gbuffer_.gbuffer(), shadows_, [&] {
+        if (flc) flc_.add_light(context);
+      });
       if (flc) {
-        flc_.generate(context);
-        direct_.execute(context, gbuffer_.gbuffer(), shadows_, [&] { flc_.add_light(context); });
         flc_.shade(context, gbuffer_.gbuffer());
         vpl_count = flc_.vpl_count();
         divergent_count = flc_.divergent_count();
-      } else {
-        direct_.execute(context, gbuffer_.gbuffer(), shadows_);
       }
       const bool indirect = flc && flc_.active();
       compose_.accumulate(context, gbuffer_.gbuffer(), direct_.output(), indirect ? flc_.indirect() : 0,

@@ -86,6 +86,9 @@ FlcPass::FlcPass()
   glTextureSubImage2D(noise_.id(), 0, 0, 0, kNoiseSize, kNoiseSize, GL_RED_INTEGER, GL_UNSIGNED_INT, noise.data());
   glTextureParameteri(noise_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(noise_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  GLint max_tess_level = 64;
+  glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_tess_level);
+  max_tess_level_ = static_cast<float>(max_tess_level);
   gl::check("creating the Forward Light Cuts pass");
 }
 
@@ -96,9 +99,7 @@ void FlcPass::generate(const RenderContext& context) {
   if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
   params_ =
       make_flc_params(context.settings, scene_radius, context.width, context.height, context.seed, context.sample);
-  GLint max_tess_level = 64;
-  glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_tess_level);
-  params_.max_tess_level = static_cast<float>(max_tess_level);
+  params_.max_tess_level = max_tess_level_;
   if (!vpls_) {
     vpl_capacity_ = kInitialVplCapacity;
     divergent_capacity_ = kInitialDivergentCapacity;

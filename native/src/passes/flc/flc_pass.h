@@ -60,6 +60,7 @@ class FlcPass {
   gl::Buffer params_buffer_, counters_, vpls_, divergents_;
   gl::Texture noise_;
   FlcParams params_{};
+  float max_tess_level_ = 64.0f;  // GL_MAX_TESS_GEN_LEVEL, queried once
   uint32_t vpl_capacity_ = 0, divergent_capacity_ = 0;
   uint32_t vpl_count_ = 0, divergent_count_ = 0;
 

@@ -64,8 +64,10 @@ def parse_args(argv):
     parser.add_argument("--cycles-device", choices=("CPU", "GPU"), default="CPU")
     parser.add_argument("--references", type=Path, help="reference cache folder "
                         "(default build/benchmark/references)")
-    parser.add_argument("--cpu-reference", action="append", default=[], metavar="SCENE=EXR",
-                        help="a second reference for SCENE (the CPU model), compared as cpuref_* columns")
+    parser.add_argument("--no-cpu-reference", action="store_true",
+                        help="FLC suites: skip the CPU model reference (cpuref_* columns)")
+    parser.add_argument("--cpu-reference-points", type=int, help="surface points of the CPU model (default "
+                        "65536, --quick 4096; every triangle gets at least one)")
     parser.add_argument("--no-errors", action="store_true", help="measure time only")
     parser.add_argument("--quick", action="store_true", help="small resolutions, short sweeps, one repeat")
     parser.add_argument("--out", type=Path)
@@ -85,7 +87,8 @@ class Context:
 
 def plan_scenes(args, suite, cache):
     if args.scenes:
-        known = {name: (w, h) for name, w, h in suite.scenes + suite.quick_scenes}
+        preferred, other = (suite.quick_scenes, suite.scenes) if args.quick else (suite.scenes, suite.quick_scenes)
+        known = {name: (w, h) for name, w, h in other + preferred}
         fallback = (suite.quick_scenes if args.quick else suite.scenes)[0][1:]
         wanted = [(name, *known.get(name, fallback)) for name in args.scenes.split(",")]
     elif args.copies:
@@ -140,7 +143,7 @@ def jobs_for(scene, width, height, configs, args, suite, renders, errors):
 
 
 class Errors:
-    """Loads each reference once and measures renders against it (and the CPU-model reference, if given)."""
+    """Loads each reference once and measures renders against it (and against the CPU model, if wanted)."""
 
     def __init__(self, references, cpu_references):
         self.references, self.cpu_references, self.loaded = references, cpu_references, {}
@@ -155,8 +158,11 @@ class Errors:
             return {}
         image = images.load(record["exr"])
         errors = images.compare(image, self._load(self.references.path(scene, record["width"], record["height"])), "")
-        if scene.name in self.cpu_references:
-            errors.update(images.compare(image, self._load(self.cpu_references[scene.name]), "cpuref_"))
+        if self.cpu_references is not None:
+            model = self._load(self.cpu_references.path(scene, record["width"], record["height"]))
+            reference = images.against_cpu_model(image, model)
+            if reference is not None:
+                errors.update(images.compare(image, reference, "cpuref_"))
         return errors
 
 
@@ -176,7 +182,9 @@ def main(argv=None):
     errors = suite.errors and not args.no_errors
     references = runner.References(args.references or runner.BUILD / "benchmark" / "references", probe["blender"],
                                    args.reference_samples or (32 if args.quick else 1024), args.cycles_device)
-    cpu_references = dict(item.split("=", 1) for item in args.cpu_reference)
+    use_cpu_model = errors and not args.no_cpu_reference and "FLC" in {c["method"] for c in configs}
+    cpu_references = runner.CpuReferences(
+        references.folder, args.cpu_reference_points or (4096 if args.quick else 65536)) if use_cpu_model else None
     measure = Errors(references, cpu_references)
 
     records = []
@@ -184,10 +192,15 @@ def main(argv=None):
         jobs = jobs_for(scene, width, height, configs, args, suite, out / "renders", errors)
         if errors:
             jobs = references.missing_jobs(scene, [(width, height)]) + jobs
-        renders = sum(job["repeats"] for job in jobs)
+        if cpu_references is not None:
+            jobs = cpu_references.missing_jobs(scene, [(width, height)]) + jobs
+        renders = sum(job.get("repeats", 1) for job in jobs)
         log(f"scene {index}/{len(scenes)}: {scene.name} at {width}x{height}, {renders} renders")
         scene_start = time.perf_counter()
-        for record in runner.run_blender(scene, jobs, out / "logs"):
+        scene_records = runner.run_blender(scene, jobs, out / "logs")
+        if cpu_references is not None:
+            cpu_references.complete(out / "logs")
+        for record in scene_records:
             if record.get("role") == "measure":
                 record.update(suite=suite.name, **measure.measure(scene, record) if errors else {})
                 records.append(record)

@@ -8,10 +8,12 @@ Works with the Python APIs of Blender 3.4, 4.x and 5.x.
 JOBS: {"records": path, "info": optional path (receives Blender's version and the GL renderer),
        "extra_triangles": optional int (adds a flat grid of that many triangles, for sync throughput),
        "warm_up": true (default) renders once, unrecorded, before the first job of each engine and method,
-       "jobs": [{"engine": "BOUNCE" | "CYCLES", "width", "height", "repeats",
+       "jobs": [{"engine": "BOUNCE" | "CYCLES" | "CPU_REFERENCE", "width", "height", "repeats",
                  "bounce": {setting: value},            # scene.bounce.<setting>; the rest stays at defaults
                  "cycles": {"samples", "seed", "device"},  # the oracle of DESIGN.md, exactly one diffuse bounce
-                 "exr": optional path (multilayer EXR of the first repeat), "meta": {...copied into records}}]}
+                 "exr": optional path (multilayer EXR of the first repeat), "meta": {...copied into records},
+                 "cpu_reference": {"scene": path, options of cpu_reference_export.export}}]}
+A CPU_REFERENCE job renders nothing: it writes the scene for bounce_reference_render (the CPU model reference).
 """
 import importlib
 import json
@@ -113,7 +115,23 @@ def save_exr(scene, path):
     os.replace(partial, path)
 
 
+def export_cpu_reference(scene, job):
+    sys.path.insert(0, os.path.join(REPO, "benchmarks"))
+    cpu_reference_export = importlib.import_module("cpu_reference_export")
+    bl_common.set_resolution(scene, job["width"], job["height"])
+    options = dict(job["cpu_reference"])
+    path = options.pop("scene")
+    start = time.perf_counter()
+    triangles, lights = cpu_reference_export.export(bpy.context.evaluated_depsgraph_get(), path, addon_module,
+                                                    **options)
+    print(f"benchmark: CPU reference scene {os.path.basename(path)}: {triangles} triangles, {lights} lights, "
+          f"{time.perf_counter() - start:.1f} s", flush=True)
+
+
 def render_job(scene, job, records, index, count, warmed):
+    if job["engine"] == "CPU_REFERENCE":
+        export_cpu_reference(scene, job)
+        return
     final = addon_module("final")
     configure(scene, job)
     method = (job["engine"], job.get("bounce", {}).get("method"))

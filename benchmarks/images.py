@@ -3,6 +3,9 @@
 What is compared (DESIGN.md, "Cycles as an oracle", one diffuse bounce):
   combined: Bounce's Combined  vs  Cycles' DiffCol * (DiffDir + DiffInd) + Emit
   indirect: Bounce's Indirect  vs  Cycles' DiffCol * DiffInd       (when Bounce writes an Indirect pass)
+and against the CPU model reference (runner.CpuReferences), columns cpuref_*:
+  indirect: the render's Indirect  vs  its own albedo (Albedo, or Cycles' DiffCol) * the model's white-receiver
+            radiance, so texture detail is the render's and only the light differs
 Errors, over the pixels where the reference sees geometry (its alpha > 0.5; the world is black) and the three
 colour channels, x the image and r the reference:
   relative RMSE = sqrt(mean((x - r)^2)) / sqrt(mean(r^2))
@@ -53,10 +56,13 @@ def components(passes):
         emission = _rgb(passes, "Emit") if "Emit" in passes else 0.0
         out["combined"] = colour * (_rgb(passes, "DiffDir") + _rgb(passes, "DiffInd")) + emission
         out["indirect"] = colour * _rgb(passes, "DiffInd")
+        out["albedo"] = colour
     else:
         out["combined"] = _rgb(passes, "Combined")
         if "Indirect" in passes:
             out["indirect"] = _rgb(passes, "Indirect")
+        if "Albedo" in passes:
+            out["albedo"] = _rgb(passes, "Albedo")
     combined = passes.get("Combined")
     if combined is not None and combined.shape[2] >= 4:
         out["alpha"] = combined[:, :, 3]
@@ -65,6 +71,14 @@ def components(passes):
 
 def load(path):
     return components(read_passes(path))
+
+
+def against_cpu_model(image, model):
+    """The reference an image's indirect light is compared with: the CPU model's white-receiver radiance (a
+    plain RGBA EXR, loaded by load()) times the image's own albedo. None when the image has no albedo."""
+    if "albedo" not in image:
+        return None
+    return {"indirect": model["combined"] * image["albedo"], "alpha": model["alpha"]}
 
 
 def relative_errors(image, reference, mask):

@@ -25,6 +25,8 @@ REFERENCE_SEED = 7919
 CYCLES_SEED = 0
 # Bumped when the reference recipe changes, so cached references are not reused across recipes.
 REFERENCE_RECIPE = "oracle-k1-v1"
+CPU_REFERENCE_RECIPE = "cpu-model-v1"
+CPU_REFERENCE_TOOL = BUILD / "bounce_reference_render"
 
 
 def log(message):
@@ -151,6 +153,67 @@ class References:
             jobs.append(cycles_job(width, height, self.samples, REFERENCE_SEED, self.device, path,
                                    {"label": f"reference {width}x{height}", "role": "reference"}))
         return jobs
+
+
+class CpuReferences:
+    """The CPU model of FLC's target (native/reference, continuous mode: the limit of jittered VPLs) of each
+    scene, cached as RGBA EXRs: RGB the indirect radiance a white receiver reflects, A whether the pixel sees
+    a surface. Multiplied by a render's own Albedo pass, it is the Indirect pass that render should converge to.
+    Made in two steps: a Blender job writes the scene (cpu_reference_export.py), then bounce_reference_render
+    (built with the native tests) renders it on every core."""
+
+    def __init__(self, folder, points, light_samples=64):
+        self.folder, self.points, self.light_samples = Path(folder), points, light_samples
+        self.pending = []
+
+    def path(self, scene, width, height):
+        source = _digest(*(p.read_bytes() for p in sorted((REPO / "native" / "reference").glob("*.*"))),
+                         (HERE / "cpu_reference_export.py").read_bytes())
+        return self.folder / (f"{scene.key}-{width}x{height}-cpu{self.points}-{self.light_samples}-"
+                              f"{source}-{CPU_REFERENCE_RECIPE}.exr")
+
+    def missing_jobs(self, scene, resolutions):
+        if not CPU_REFERENCE_TOOL.exists():
+            sys.exit(f"scripts/benchmark: {CPU_REFERENCE_TOOL} is missing: it is built with the native tests "
+                     "(scripts/install-deps installs Embree and GoogleTest), or pass --no-cpu-reference")
+        jobs = []
+        for width, height in sorted(set(resolutions)):
+            path = self.path(scene, width, height)
+            if path.exists():
+                log(f"CPU reference {path.name}: cached")
+                continue
+            log(f"CPU reference {path.name}: exporting the scene, then rendering {self.points} points")
+            self.folder.mkdir(parents=True, exist_ok=True)
+            exported = path.with_suffix(".scene.bin")
+            self.pending.append((exported, path, width, height))
+            jobs.append({"engine": "CPU_REFERENCE", "width": width, "height": height,
+                         "cpu_reference": {"scene": str(exported), "points": self.points,
+                                           "light_samples": self.light_samples}})
+        return jobs
+
+    def complete(self, work):
+        """Renders the scenes the Blender run exported."""
+        import numpy as np
+        import OpenImageIO as oiio
+        for exported, path, width, height in self.pending:
+            raw = exported.with_suffix(".raw")
+            logfile = work / f"{path.stem}.log"
+            start = time.perf_counter()
+            with open(logfile, "w") as out:
+                if subprocess.run([str(CPU_REFERENCE_TOOL), str(exported), str(raw)], stdout=out,
+                                  stderr=subprocess.STDOUT).returncode != 0:
+                    sys.exit(f"scripts/benchmark: the CPU reference failed, see {logfile}")
+            pixels = np.fromfile(raw, dtype="<f4").reshape(height, width, 4)[::-1]  # rows top to bottom
+            image = oiio.ImageBuf(oiio.ImageSpec(width, height, 4, oiio.FLOAT))
+            image.set_pixels(oiio.ROI(0, width, 0, height), np.ascontiguousarray(pixels))
+            partial = path.with_suffix(".partial.exr")
+            if not image.write(str(partial)):
+                sys.exit(f"scripts/benchmark: cannot write {partial}: {image.geterror()}")
+            os.replace(partial, path)
+            exported.unlink()
+            raw.unlink()
+            log(f"CPU reference {path.name}: {time.perf_counter() - start:.1f} s")
+        self.pending = []
 
 
 def cycles_job(width, height, samples, seed, device, exr, meta, repeats=1):

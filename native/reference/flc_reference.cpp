@@ -395,7 +395,7 @@ std::vector<glm::vec3> continuous(const Scene& scene, std::span<const Receiver> 
   return indirect(scene, receivers, Mode::continuous, options);
 }
 
-std::vector<glm::vec3> render(const Scene& scene, const BounceCamera& camera, Mode mode, const Options& options) {
+Image render(const Scene& scene, const BounceCamera& camera, Mode mode, const Options& options) {
   if (camera.width <= 0 || camera.height <= 0) throw std::invalid_argument("render: empty image");
   glm::dmat4 view(1.0), projection(1.0);
   for (int c = 0; c < 4; ++c) {
@@ -407,7 +407,9 @@ std::vector<glm::vec3> render(const Scene& scene, const BounceCamera& camera, Mo
   const glm::dmat4 clip_to_world = glm::inverse(projection * view);
   const std::vector<Vpl> vpls = make_vpls(scene, mode, options);
   const int width = camera.width, height = camera.height;
-  std::vector<glm::vec3> image(std::size_t(width) * std::size_t(height), glm::vec3(0.0f));
+  const std::size_t pixels = std::size_t(width) * std::size_t(height);
+  Image image{width, height, std::vector<glm::vec3>(pixels), std::vector<glm::vec3>(pixels),
+              std::vector<uint8_t>(pixels)};
   parallel_for(std::size_t(height), thread_count(options, std::size_t(height)), 1, [&](std::size_t row) {
     for (int column = 0; column < width; ++column) {
       const double ndc_x = (column + 0.5) / width * 2.0 - 1.0;
@@ -432,8 +434,11 @@ std::vector<glm::vec3> render(const Scene& scene, const BounceCamera& camera, Mo
       // On the triangle exactly, from the barycentrics rather than origin + t dir.
       receiver.position = (1.0f - hit->u - hit->v) * triangle.p[0] + hit->u * triangle.p[1] + hit->v * triangle.p[2];
       receiver.normal = glm::dot(hit->normal, glm::vec3(dir)) > 0.0f ? -hit->normal : hit->normal;
-      receiver.albedo = triangle.albedo;
-      image[row * std::size_t(width) + std::size_t(column)] = gather(vpls, receiver, options.epsilon);
+      receiver.albedo = glm::vec3(1.0f);
+      const std::size_t pixel = row * std::size_t(width) + std::size_t(column);
+      image.incident[pixel] = gather(vpls, receiver, options.epsilon);
+      image.albedo[pixel] = triangle.albedo;
+      image.covered[pixel] = 1;
     }
   });
   return image;

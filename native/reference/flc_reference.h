@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -98,9 +99,16 @@ std::vector<glm::vec3> indirect(const Scene& scene, std::span<const Receiver> re
 std::vector<glm::vec3> many_lights(const Scene& scene, std::span<const Receiver> receivers, const Options& options);
 std::vector<glm::vec3> continuous(const Scene& scene, std::span<const Receiver> receivers, const Options& options);
 
-// The indirect image the camera sees: width * height pixels, rows bottom to top, rays through pixel centres
-// (crop ignored). The receiver is the first hit, its normal the geometric one turned toward the camera; pixels
-// that hit nothing are 0.
-std::vector<glm::vec3> render(const Scene& scene, const BounceCamera& camera, Mode mode, const Options& options);
+// What the camera sees: width * height pixels, rows bottom to top, rays through pixel centres (crop ignored).
+// The receiver is the first hit, its normal the geometric one turned toward the camera; pixels that hit
+// nothing are 0 and not covered.
+struct Image {
+  int width = 0, height = 0;
+  std::vector<glm::vec3> incident;  // outgoing indirect radiance of a white (albedo 1) receiver
+  std::vector<glm::vec3> albedo;    // of the triangle each pixel sees
+  std::vector<uint8_t> covered;     // 1 where the pixel's ray hits a triangle
+  glm::vec3 radiance(std::size_t pixel) const { return incident[pixel] * albedo[pixel]; }
+};
+Image render(const Scene& scene, const BounceCamera& camera, Mode mode, const Options& options);
 
 }  // namespace bounce::reference

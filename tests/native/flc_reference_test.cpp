@@ -175,11 +175,14 @@ TEST_F(FlcReferenceFurnace, RenderSeesUniformWalls) {
   camera.height = 16;
   Options options;
   options.epsilon = 1e-3f;
-  const std::vector<glm::vec3> image = render(scene, camera, Mode::many_lights, options);
-  ASSERT_EQ(image.size(), 24u * 16u);
+  const Image image = render(scene, camera, Mode::many_lights, options);
+  ASSERT_EQ(image.incident.size(), 24u * 16u);
   double worst = 0.0;
-  for (const glm::vec3& l : image) worst = std::max(worst, relative_error(l.r, expected()));
-  std::printf("furnace render: worst relative error %.3e over %zu pixels\n", worst, image.size());
+  for (std::size_t i = 0; i < image.incident.size(); ++i) {
+    EXPECT_EQ(image.covered[i], 1);
+    worst = std::max(worst, relative_error(image.radiance(i).r, expected()));
+  }
+  std::printf("furnace render: worst relative error %.3e over %zu pixels\n", worst, image.incident.size());
   EXPECT_LT(worst, std::min(0.01, 3.0 * gap + 1e-3));
 }
 
@@ -390,11 +393,12 @@ TEST(FlcReferenceTransfer, ParallelSquaresMatchIntegral) {
   std::memcpy(camera.projection, glm::value_ptr(projection), 64);
   camera.width = camera.height = 8;  // pixel centres at +-0.25, +-0.75, ...: the inner 4 x 4 hit the square
   options.points_per_unit_area = 500.0f;
-  const std::vector<glm::vec3> image = render(scene, camera, Mode::continuous, options);
+  const Image image = render(scene, camera, Mode::continuous, options);
   for (int j = 0; j < 8; ++j) {
     for (int i = 0; i < 8; ++i) {
       const bool inside = i >= 2 && i < 6 && j >= 2 && j < 6;
-      const float value = image[std::size_t(j) * 8 + std::size_t(i)].r;
+      EXPECT_EQ(image.covered[std::size_t(j) * 8 + std::size_t(i)], inside ? 1 : 0) << i << ", " << j;
+      const float value = image.radiance(std::size_t(j) * 8 + std::size_t(i)).r;
       if (!inside) {
         EXPECT_EQ(value, 0.0f) << i << ", " << j;
         continue;
@@ -611,9 +615,9 @@ TEST(FlcReferenceDeterminism, SameSeedSameResult) {
   options.points_per_unit_area = 50.0f;
   options.light_samples = 8;
   options.threads = 2;
-  auto bits = [](const std::vector<glm::vec3>& image) {
-    std::vector<uint32_t> out(image.size() * 3);
-    std::memcpy(out.data(), image.data(), out.size() * 4);
+  auto bits = [](const Image& image) {
+    std::vector<uint32_t> out(image.incident.size() * 3);
+    std::memcpy(out.data(), image.incident.data(), out.size() * 4);
     return out;
   };
   const auto a = bits(render(scene, camera, Mode::continuous, options));

@@ -122,13 +122,12 @@ class FlcUnbiased : public RenderFixture {
   }
 
   // Relative RMSE of the Indirect AOV against `reference` over `mask`.
-  static double relative_rmse(const Image& image, const std::vector<glm::vec3>& reference,
-                              const std::vector<bool>& mask) {
+  static double relative_rmse(const Image& image, const reference::Image& reference, const std::vector<bool>& mask) {
     double error = 0.0, norm = 0.0;
-    for (std::size_t i = 0; i < reference.size(); ++i) {
+    for (std::size_t i = 0; i < reference.incident.size(); ++i) {
       if (!mask[i]) continue;
       for (int c = 0; c < 3; ++c) {
-        const double r = reference[i][c], x = image.values[3 * i + c];
+        const double r = reference.radiance(i)[c], x = image.values[3 * i + c];
         error += (x - r) * (x - r);
         norm += r * r;
       }
@@ -153,7 +152,7 @@ TEST_F(FlcUnbiased, MeanOfFramesApproachesTheManyLightSum) {
   reference::Options options;
   options.epsilon = settings_.flc_epsilon * scene_radius;
   options.light_samples = 256;
-  const std::vector<glm::vec3> expected =
+  const reference::Image expected =
       reference::render(reference::Scene(triangles_, lights_), camera_, reference::Mode::many_lights, options);
 
   std::printf("frames M, relative RMSE against L^ML (CPU), relative RMSE * sqrt(M)\n");
@@ -189,7 +188,7 @@ TEST_F(FlcUnbiased, ShadowMappedIrradianceStaysCloseToRayTraced) {
   reference::Options options;
   options.epsilon = settings_.flc_epsilon * 0.5f * std::sqrt(3.0f);
   options.light_samples = 256;
-  const std::vector<glm::vec3> expected =
+  const reference::Image expected =
       reference::render(reference::Scene(triangles_, lights_), camera_, reference::Mode::many_lights, options);
   settings_.samples = 256;
   const Image indirect = render(BOUNCE_AOV_INDIRECT);

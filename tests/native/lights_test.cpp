@@ -123,6 +123,33 @@ TEST_F(AnalyticLights, SunLight) {
   expect_matches([&](glm::vec3) { return strength * towards.z; });
 }
 
+// Light 80 degrees off the normal: the receiver's own depth in the shadow map changes fastest here, so this is
+// where self-shadowing (acne) would show. An unshadowed plane must stay fully lit.
+TEST_F(AnalyticLights, SunLightGrazing) {
+  const float strength = 5.0f;
+  light_ = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(strength));
+  const float angle = 80.0f * kPi / 180.0f;
+  const glm::vec3 towards(std::sin(angle) * 0.8f, std::sin(angle) * 0.6f, std::cos(angle));
+  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 0, 1), towards));
+  const glm::vec3 y = glm::cross(towards, x);
+  std::memcpy(light_.axis_x, &x[0], 12);
+  std::memcpy(light_.axis_y, &y[0], 12);
+  std::memcpy(light_.axis_z, &towards[0], 12);
+  light_.sun_angle = 0.01f;
+  expect_matches([&](glm::vec3) { return strength * towards.z; });
+}
+
+TEST_F(AnalyticLights, PointLightGrazing) {
+  const float intensity = 2000.0f;
+  const glm::vec3 position(-7.0f, 1.0f, 0.6f);  // low beside the view: 5 to 85 degrees off the normal
+  light_ = make_light(BOUNCE_LIGHT_POINT, position, glm::vec3(intensity));
+  expect_matches([&](glm::vec3 p) {
+    const glm::vec3 d = position - p;
+    const float r2 = glm::dot(d, d);
+    return intensity * d.z / std::sqrt(r2) / r2;
+  });
+}
+
 // Irradiance from a Lambertian rectangle by numerical integration (midpoint rule, fine grid): independent of
 // the shader's closed form.
 float rectangle_irradiance(glm::vec3 p, glm::vec3 centre, glm::vec2 half, float radiance) {

@@ -131,6 +131,16 @@ def probe(work):
     return json.loads(info.read_text())
 
 
+def _uncached(resolutions, path_of, what):
+    """(width, height, path) of each resolution whose cached file `path_of(width, height)` is missing."""
+    for width, height in sorted(set(resolutions)):
+        path = path_of(width, height)
+        if path.exists():
+            log(f"{what} {path.name}: cached")
+        else:
+            yield width, height, path
+
+
 class References:
     """Cycles one-bounce references, cached as EXRs keyed by scene, resolution, Blender version, samples."""
 
@@ -144,11 +154,7 @@ class References:
     def missing_jobs(self, scene, resolutions):
         """Jobs that render the references `scene` lacks at `resolutions` (so they join the scene's run)."""
         jobs = []
-        for width, height in sorted(set(resolutions)):
-            path = self.path(scene, width, height)
-            if path.exists():
-                log(f"reference {path.name}: cached")
-                continue
+        for width, height, path in _uncached(resolutions, lambda w, h: self.path(scene, w, h), "reference"):
             log(f"reference {path.name}: rendering with Cycles, {self.samples} samples")
             jobs.append(cycles_job(width, height, self.samples, REFERENCE_SEED, self.device, path,
                                    {"label": f"reference {width}x{height}", "role": "reference"}))
@@ -177,11 +183,7 @@ class CpuReferences:
             sys.exit(f"scripts/benchmark: {CPU_REFERENCE_TOOL} is missing: it is built with the native tests "
                      "(scripts/install-deps installs Embree and GoogleTest), or pass --no-cpu-reference")
         jobs = []
-        for width, height in sorted(set(resolutions)):
-            path = self.path(scene, width, height)
-            if path.exists():
-                log(f"CPU reference {path.name}: cached")
-                continue
+        for width, height, path in _uncached(resolutions, lambda w, h: self.path(scene, w, h), "CPU reference"):
             log(f"CPU reference {path.name}: exporting the scene, then rendering {self.points} points")
             self.folder.mkdir(parents=True, exist_ok=True)
             exported = path.with_suffix(".scene.bin")

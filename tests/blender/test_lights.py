@@ -88,9 +88,11 @@ def expected_irradiance(case, matrix, pts, blender_version):
 
 # Soft shadows from a light whose plane the receiver's tangent plane cuts: light samples behind the horizon are
 # left out of the visibility estimate (shaders/direct/direct.frag), but samples just above it see the receiver
-# at a grazing angle in the shadow map. Measured here at 64 samples: 2.5 % mean, 4.4 % max too dark, with
-# nothing occluding (was 3.9 % / 6.5 % before samples behind the horizon were left out).
-SOFT_SHADOW_HORIZON_TOLERANCE = {"area_horizon_64spp": (0.03, 0.05)}  # mean, max relative error
+# at a grazing angle in the shadow map. Measured here at 64 samples, with nothing occluding: 3.1 % mean, 5.7 % max
+# too dark at the default 0.5-texel normal offset; 2.5 % / 4.4 % at 1.5 texels, which lit Sponza's shaded arcades
+# (mean direct light +14 % against Cycles, +7.5 % at 0.5); 3.9 % / 6.5 % before samples behind the horizon were
+# left out. A trade-off of normal-offset shadows at grazing angles, both sides measured.
+SOFT_SHADOW_HORIZON_TOLERANCE = {"area_horizon_64spp": (0.035, 0.065)}  # mean, max relative error
 
 
 @pytest.mark.parametrize("name", list(CASES))

@@ -21,6 +21,6 @@ void main() {
   ivec2 image_pixel = pixel + u_tile_origin;
   uint pixel_hash = uint(image_pixel.x) * 73856093u ^ uint(image_pixel.y) * 19349663u;
   float visibility =
-      shadow_visibility(x, n, texelFetch(g_geometric_normal, pixel, 0).xyz, above_horizon, pixel_hash);
+      shadow_visibility(x, n, texelFetch(g_geometric_normal, pixel, 0).xyz, above_horizon, pixel_hash, true);
   out_direct = vec4(albedo.rgb / PI * irradiance * visibility, 0.0);
 }

@@ -11,7 +11,9 @@ vec3 side_irradiance(vec3 y, vec3 n, uint decorrelation) {
   float above_horizon;
   vec3 irradiance = light_irradiance(y, n, above_horizon);
   if (all(equal(irradiance, vec3(0.0)))) return vec3(0.0);
-  return irradiance * shadow_visibility(y, n, n, above_horizon, decorrelation);
+  // Unfiltered: E(t_i) averages over the samples' light points anyway, and the filter's margin leaks light onto
+  // grazing VPLs (Sponza: FLC's mean indirect 1.35x its CPU model filtered, 1.26x unfiltered).
+  return irradiance * shadow_visibility(y, n, n, above_horizon, decorrelation, false);
 }
 
 void main() {

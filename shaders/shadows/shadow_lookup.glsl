@@ -93,10 +93,9 @@ vec2 vogel_disk(int i, float rotation) {
 // `p` is the receiver, already offset along its normal against acne; `slope` is the tangent of the angle between
 // its normal and the light. Filter taps away from p compare against the receiver's plane there, not against p's
 // depth, or a sloped receiver would shadow itself: the margin is the plane's worst-case depth change.
-float shadow_visibility_at(vec3 p, float slope, uint pixel_hash) {
+float shadow_visibility_at(vec3 p, float slope, uint pixel_hash, float share) {
   ShadowCoord c = shadow_coord(p);
   if (c.outside) return shadow_kind() == SHADOW_ORTHOGRAPHIC ? 1.0 : 0.0;
-  float share = light.shadow_soft.x;
   // World size of one texel at the receiver (orthographic maps: constant).
   float texel_world = light.shadow_params.y * (shadow_kind() == SHADOW_ORTHOGRAPHIC ? 1.0 : c.distance);
   if (share <= 0.0) return shadow_compare(c.at, c.depth);
@@ -146,8 +145,10 @@ vec3 shadow_receiver(vec3 x, vec3 geometric, vec3 to_light) {
 // the average over samples is the visibility of the part of the light the receiver sees (unbiased), and a
 // receiver whose plane cuts the light is not darkened by the part behind it. Sample 0 is the light's centre,
 // not a random point: when that is below the horizon it counts as visible (a bias of at most 1/samples).
-// `decorrelation` varies the filter's kernel rotation between receivers (e.g. a pixel hash).
-float shadow_visibility(vec3 x, vec3 n, vec3 geometric, float above_horizon, uint decorrelation) {
+// `decorrelation` varies the filter's kernel rotation between receivers (e.g. a pixel hash). `filtered` false
+// gives one hard lookup toward this sample's light point: unbiased over the samples all the same, and without
+// the filter's receiver-plane margin, which lets light through at grazing angles.
+float shadow_visibility(vec3 x, vec3 n, vec3 geometric, float above_horizon, uint decorrelation, bool filtered) {
   int kind = shadow_kind();
   if (kind == SHADOW_NONE) return 1.0;
   vec3 to_light = kind == SHADOW_ORTHOGRAPHIC ? light.shadow_origin.xyz : normalize(light.shadow_origin.xyz - x);
@@ -161,5 +162,6 @@ float shadow_visibility(vec3 x, vec3 n, vec3 geometric, float above_horizon, uin
   float cos_theta = max(abs(dot(geometric, to_light)), 0.1);
   float slope = sqrt(1.0 - cos_theta * cos_theta) / cos_theta;
   uint hash = decorrelation ^ floatBitsToUint(light.shadow_soft.z);
-  return shadow_visibility_at(shadow_receiver(x, geometric, to_light), slope, hash) / max(above_horizon, 1e-3);
+  float share = filtered ? light.shadow_soft.x : 0.0;
+  return shadow_visibility_at(shadow_receiver(x, geometric, to_light), slope, hash, share) / max(above_horizon, 1e-3);
 }

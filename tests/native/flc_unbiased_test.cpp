@@ -181,8 +181,9 @@ TEST_F(FlcUnbiased, MeanOfFramesApproachesTheManyLightSum) {
   EXPECT_LT(interleaved, 0.1);
 }
 
-// With shadows, E(t_i) comes from the shadow maps: the error stops falling at the difference between
-// shadow-mapped and ray-traced irradiance at the VPLs.
+// With shadows, E(t_i) comes from the shadow maps, one unfiltered lookup per VPL and sample toward that sample's
+// point of the area light: averaged over the samples, it is the ray-traced soft shadow (0.0097 at 256 frames; 0.028
+// when VPLs used the pixels' filtered lookup).
 TEST_F(FlcUnbiased, ShadowMappedIrradianceStaysCloseToRayTraced) {
   cornell(1.0f / 32.0f, true);
   reference::Options options;
@@ -194,7 +195,7 @@ TEST_F(FlcUnbiased, ShadowMappedIrradianceStaysCloseToRayTraced) {
   const Image indirect = render(BOUNCE_AOV_INDIRECT);
   const double error = relative_rmse(indirect, expected, inside_faces());
   std::printf("256 frames with shadows: relative RMSE %.4f\n", error);
-  EXPECT_LT(error, 0.05);
+  EXPECT_LT(error, 0.02);
 }
 
 }  // namespace

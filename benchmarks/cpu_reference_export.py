@@ -12,7 +12,6 @@ import types
 import numpy as np
 
 MAGIC = b"BNCREF1\n"
-MODES = {"MANY_LIGHTS": 0, "CONTINUOUS": 1}
 
 
 def _srgb_to_linear(c):
@@ -58,10 +57,11 @@ class _Albedo:
         return albedo, kept
 
 
-def export(depsgraph, path, addon, mode="CONTINUOUS", points=65536, epsilon_fraction=0.01, light_samples=64,
-           min_points_per_triangle=1, seed=0, threads=0):
+def export(depsgraph, path, addon, points, light_samples):
     """Writes the scene of `depsgraph`, seen by its camera at the render resolution, to `path`. `addon(name)`
-    imports an add-on submodule. Returns (triangles, lights) written."""
+    imports an add-on submodule. The model's epsilon is the default flc_epsilon of the settings table, as the
+    measured renders use it. Returns (triangles, lights) written."""
+    epsilon_fraction = depsgraph.scene.bounce.bl_rna.properties["flc_epsilon"].default
     camera_module, lights_module = addon("export.camera"), addon("export.lights")
     meshes, reports_module = addon("export.meshes"), addon("export.reports")
     reports = reports_module.Reports()
@@ -100,8 +100,7 @@ def export(depsgraph, path, addon, mode="CONTINUOUS", points=65536, epsilon_frac
     with open(path, "wb") as out:
         out.write(MAGIC)
         out.write(struct.pack("<2i", len(bytes(native.Camera())), len(bytes(native.Light()))))
-        out.write(struct.pack("<4i2fQ", MODES[mode], light_samples, min_points_per_triangle, threads,
-                              epsilon_fraction, points, seed))
+        out.write(struct.pack("<i2f", light_samples, epsilon_fraction, points))
         out.write(bytes(camera))
         out.write(struct.pack("<i", len(lights)))
         for light in lights:

@@ -171,12 +171,13 @@ class CpuReferences:
     def __init__(self, folder, points, light_samples=64):
         self.folder, self.points, self.light_samples = Path(folder), points, light_samples
         self.pending = []
+        # The cache key follows the model's sources, so an edited model is never answered from the cache.
+        self.source = _digest(*(p.read_bytes() for p in sorted((REPO / "native" / "reference").glob("*.*"))),
+                              (HERE / "cpu_reference_export.py").read_bytes())
 
     def path(self, scene, width, height):
-        source = _digest(*(p.read_bytes() for p in sorted((REPO / "native" / "reference").glob("*.*"))),
-                         (HERE / "cpu_reference_export.py").read_bytes())
         return self.folder / (f"{scene.key}-{width}x{height}-cpu{self.points}-{self.light_samples}-"
-                              f"{source}-{CPU_REFERENCE_RECIPE}.exr")
+                              f"{self.source}-{CPU_REFERENCE_RECIPE}.exr")
 
     def missing_jobs(self, scene, resolutions):
         if not CPU_REFERENCE_TOOL.exists():

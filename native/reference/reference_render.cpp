@@ -4,15 +4,15 @@
 //
 //   char[8]  "BNCREF1\n"
 //   int32    sizeof(BounceCamera), sizeof(BounceLight)   (checked: the writer used this bounce.h)
-//   int32    mode (0 many lights, 1 continuous), light_samples, min_points_per_triangle, threads
-//   float32  epsilon_fraction (of the scene radius, as flc_epsilon), points (continuous: target count)
-//   uint64   seed
+//   int32    light_samples (Options)
+//   float32  epsilon_fraction (of the scene radius, as flc_epsilon), points (the target count of surface points)
 //   BounceCamera
 //   int32    light count, then that many BounceLight
 //   int64    triangle count, then per triangle 12 float32: three world-space corners, then the albedo
 //
-// OUT.raw receives width * height * 4 float32, rows bottom to top: the white-receiver indirect radiance (RGB,
-// Image::incident) and coverage (A). Progress goes to stderr.
+// The model is rendered in continuous mode (the limit of FLC's jittered VPLs), with the default seed and every
+// core. OUT.raw receives width * height * 4 float32, rows bottom to top: the white-receiver indirect radiance
+// (RGB, Image::incident) and coverage (A). Progress goes to stderr.
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -57,14 +57,10 @@ int run(const char* scene_path, const char* out_path) {
   if (std::memcmp(magic, "BNCREF1\n", 8) != 0) throw std::runtime_error("not a Bounce reference scene file");
   if (in.read<int32_t>() != int32_t(sizeof(BounceCamera)) || in.read<int32_t>() != int32_t(sizeof(BounceLight)))
     throw std::runtime_error("the scene file was written for another bounce.h");
-  const int32_t mode = in.read<int32_t>();
   bounce::reference::Options options;
   options.light_samples = in.read<int32_t>();
-  options.min_points_per_triangle = in.read<int32_t>();
-  options.threads = in.read<int32_t>();
   const float epsilon_fraction = in.read<float>();
   const float points = in.read<float>();
-  options.seed = in.read<uint64_t>();
   const auto camera = in.read<BounceCamera>();
   std::vector<BounceLight> lights(static_cast<std::size_t>(in.read<int32_t>()));
   in.bytes(lights.data(), lights.size() * sizeof(BounceLight));
@@ -83,10 +79,9 @@ int run(const char* scene_path, const char* out_path) {
   double area = 0.0;
   for (const Triangle& t : scene.triangles()) area += 0.5 * glm::length(glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]));
   options.points_per_unit_area = area > 0.0 ? static_cast<float>(points / area) : 0.0f;
-  const auto mode_value = mode == 0 ? bounce::reference::Mode::many_lights : bounce::reference::Mode::continuous;
   std::fprintf(stderr, "bounce_reference_render: %zu triangles, %zu lights, %.0f m^2, %dx%d pixels\n",
                scene.triangles().size(), scene.lights().size(), area, camera.width, camera.height);
-  const bounce::reference::Image image = render(scene, camera, mode_value, options);
+  const bounce::reference::Image image = render(scene, camera, bounce::reference::Mode::continuous, options);
   std::fprintf(stderr, "bounce_reference_render: %.1f s\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 

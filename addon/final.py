@@ -16,7 +16,8 @@ PASSES = (
     (native.AOV_ALBEDO, "Albedo", "RGB", "COLOR"),
     (native.AOV_NORMAL, "Normal", "XYZ", "VECTOR"),
     (native.AOV_DEPTH, "Depth", "Z", "VALUE"),
-    (native.AOV_VPL_LEVELS, "VPL Levels", "RGB", "COLOR"),
+    (native.AOV_VPLS, "VPLs", "RGB", "COLOR"),
+    (native.AOV_SECOND_BOUNCE, "Second Bounce", "RGB", "COLOR"),
 )
 _AOV_BY_PASS = {name: aov for aov, name, _, _ in PASSES}
 
@@ -119,11 +120,22 @@ def _fit(pixels, src_width, src_height, width, height, channels):
     return out.reshape(-1, channels)
 
 
+def indirect_summary(info, light_names):
+    """What the indirect method did in the frame's last sample, in a few words ('' when none ran)."""
+    if info.main_light >= 0:
+        name = light_names[info.main_light] if info.main_light < len(light_names) else "?"
+        return (f"SSVP: main light '{name}', {info.vpl_count:,} VPLs, {info.cluster_count} clusters")
+    if info.vpl_count:
+        return f"FLC: {info.vpl_count:,} VPLs, {info.divergent_triangles:,} triangles subdivided"
+    return ""
+
+
 def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
     stages = info.stage_list()
     stage_text = ", ".join(f"{name} {gpu_ms:.1f} ms" for name, gpu_ms, _cpu_ms in stages)
-    vpl_text = f" | {info.vpl_count:,} VPLs" if info.vpl_count else ""
-    engine.update_stats("", f"Bounce | {info.samples} samples{vpl_text} | {stage_text}")
+    indirect = indirect_summary(info, sync_stats.last_light_names)
+    indirect_text = f" | {indirect}" if indirect else ""
+    engine.update_stats("", f"Bounce | {info.samples} samples{indirect_text} | {stage_text}")
     if kind != session.FINAL:
         return
     last_render.clear()
@@ -133,4 +145,4 @@ def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
         triangles=scene_stats.triangle_count, dropped_triangles=scene_stats.dropped_triangles,
         lights=scene_stats.light_count, skipped_lights=scene_stats.skipped_lights,
         meshes=scene_stats.mesh_count, instances=scene_stats.instance_count, gpu_bytes=scene_stats.gpu_bytes,
-        vpls=info.vpl_count, divergent_triangles=info.divergent_triangles)
+        indirect=indirect)

@@ -92,8 +92,9 @@ AOV_ALBEDO = 3
 AOV_NORMAL = 4
 AOV_DEPTH = 5
 AOV_INDIRECT = 6
-AOV_VPL_LEVELS = 7
-AOV_COUNT = 8
+AOV_VPLS = 7
+AOV_SECOND_BOUNCE = 8
+AOV_COUNT = 9
 
 RENDER_IDLE = 0
 RENDER_RUNNING = 1
@@ -212,7 +213,9 @@ class FrameInfo(ctypes.Structure):
                 ("stages", StageTime * MAX_STAGES),
                 ("nonfinite_pixels", _u64),
                 ("vpl_count", _u64),
-                ("divergent_triangles", _u64)]
+                ("divergent_triangles", _u64),
+                ("main_light", _i32),
+                ("cluster_count", _i32)]
 
     def stage_list(self):
         """[(name, gpu_ms, cpu_ms), ...] of the stages filled in."""

@@ -18,26 +18,46 @@ FLC_PRESETS = {
         "samples": 256, "viewport_samples": 64}),
 }
 
-PRESETS_BY_GROUP = {"Forward Light Cuts": FLC_PRESETS}
+# Screen-Space VPL Propagation: the paper's defaults are Preview (256 + 256 VPLs, 8 clusters, 4x4 tiles; Sec. III,
+# Table I). Draft halves the costs, Final buys sharper indirect shadows with more clusters (Fig. 2) and keeps at
+# least 32 second-bounce VPLs per cluster (Sec. III-D).
+SSVP_PRESETS = {
+    "DRAFT": ("Draft", "Fast: 128 + 128 VPLs, 4 clusters, 8x8 interleaving, wide blur", {
+        "ssvp_vpls": 128, "ssvp_second_vpls": 128, "ssvp_clusters": 4, "ssvp_tiling": 3,
+        "ssvp_paraboloid_size": 128, "ssvp_blur_radius": 6, "samples": 4, "viewport_samples": 4}),
+    "PREVIEW": ("Preview", "The paper's settings: 256 + 256 VPLs, 8 clusters, 4x4 interleaving", {
+        "ssvp_vpls": 256, "ssvp_second_vpls": 256, "ssvp_clusters": 8, "ssvp_tiling": 2,
+        "ssvp_paraboloid_size": 256, "ssvp_blur_radius": 4, "samples": 16, "viewport_samples": 16}),
+    "FINAL": ("Final", "Converged: 1024 + 2048 VPLs, 32 clusters, 2x2 interleaving, many samples", {
+        "ssvp_vpls": 1024, "ssvp_second_vpls": 2048, "ssvp_clusters": 32, "ssvp_tiling": 1,
+        "ssvp_paraboloid_size": 512, "ssvp_blur_radius": 2, "samples": 64, "viewport_samples": 32}),
+}
+
+PRESETS_BY_GROUP = {"Forward Light Cuts": FLC_PRESETS, "Screen-Space VPL Propagation": SSVP_PRESETS}
 
 
 class BOUNCE_OT_apply_preset(bpy.types.Operator):
-    """Set the Forward Light Cuts quality settings to a preset"""
+    """Set a settings group's quality settings to a preset"""
 
     bl_idname = "bounce.apply_preset"
     bl_label = "Apply Bounce Preset"
     bl_options = {"REGISTER", "UNDO"}
 
-    preset: bpy.props.EnumProperty(
-        name="Preset", items=[(key, label, tip) for key, (label, tip, _values) in FLC_PRESETS.items()])
+    group: bpy.props.StringProperty(name="Group", default="Forward Light Cuts")
+    preset: bpy.props.StringProperty(name="Preset", default="PREVIEW")
 
     @classmethod
     def description(cls, _context, properties):
-        return FLC_PRESETS[properties.preset][1]
+        found = PRESETS_BY_GROUP.get(properties.group, {}).get(properties.preset)
+        return found[1] if found else "Unknown preset"
 
     def execute(self, context):
+        found = PRESETS_BY_GROUP.get(self.group, {}).get(self.preset)
+        if found is None:
+            self.report({"ERROR"}, f"No preset {self.preset!r} for {self.group!r}")
+            return {"CANCELLED"}
         props = context.scene.bounce
-        for name, value in FLC_PRESETS[self.preset][2].items():
+        for name, value in found[2].items():
             if hasattr(props, name):
                 setattr(props, name, value)
         return {"FINISHED"}
@@ -50,5 +70,6 @@ def draw_buttons(layout, group):
         return
     row = layout.row(align=True)
     for key, (label, _tip, _values) in presets.items():
-        row.operator(BOUNCE_OT_apply_preset.bl_idname, text=label).preset = key
-
+        button = row.operator(BOUNCE_OT_apply_preset.bl_idname, text=label)
+        button.group = group
+        button.preset = key

@@ -97,9 +97,8 @@ class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
                        f"render {info['render_seconds'] * 1e3:.0f} ms, sync {info['sync_seconds'] * 1e3:.0f} ms")
         col.label(text=f"{info['triangles']:,} triangles, {info['instances']} instances, {info['meshes']} meshes, "
                        f"{info['lights']} lights, {info['gpu_bytes'] / 2**20:.1f} MiB")
-        if info["vpls"]:
-            col.label(text=f"Forward Light Cuts: {info['vpls']:,} VPLs a sample, "
-                           f"{info['divergent_triangles']:,} triangles subdivided")
+        if info["indirect"]:
+            col.label(text=info["indirect"])
         if info["dropped_triangles"] or info["skipped_lights"]:
             col.label(text=f"Dropped {info['dropped_triangles']:,} triangles, skipped {info['skipped_lights']} "
                            "lights", icon="ERROR")
@@ -113,6 +112,14 @@ class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
                 grid.label(text=f"{cpu_ms:.2f}")
 
 
+# Lines shown at the top of a settings group's panel.
+GROUP_NOTES = {
+    "Screen-Space VPL Propagation":
+        "Only the main light bounces: the light that brings the most light into the scene (see Last Render or "
+        "the viewport's statistics for which). The other lights add direct light only.",
+}
+
+
 def _settings_panel(group, rows, order):
     """A Render-properties panel for one `group` of the settings table; viewport variants sit beside."""
     has_pairs = any(has_viewport_variant(row) for row in rows)
@@ -123,6 +130,11 @@ def _settings_panel(group, rows, order):
         layout.use_property_split = True
         layout.use_property_decorate = False
         presets.draw_buttons(layout, group)
+        note = GROUP_NOTES.get(group)
+        if note:
+            col = layout.column(align=True)
+            for line in _wrap(note, 60):
+                col.label(text=line)
         if has_pairs:
             _labels, values = _label_split(layout)
             values.label(text="Render")

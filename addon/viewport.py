@@ -9,7 +9,7 @@ bpy.app.timers callback watches the frame serial and redraws the 3D views when a
 """
 import bpy
 
-from . import native, session
+from . import final, native, session
 from .export import Reports, failures_reported, viewport_camera
 from .properties import fill_settings
 
@@ -60,6 +60,8 @@ def _draw_latest_frame(engine, context, current):
         buffer = gpu.types.Buffer("FLOAT", flat.size, flat)  # wraps the numpy memory, no copy
         current.texture = gpu.types.GPUTexture((info.width, info.height), format="RGBA16F", data=buffer)
         current.texture_serial = info.serial
+        indirect = final.indirect_summary(info, current.scene.stats.last_light_names)
+        engine.update_stats("", f"Bounce | Sample {info.samples}" + (f" | {indirect}" if indirect else ""))
     if current.texture is None:
         return
 

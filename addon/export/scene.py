@@ -134,6 +134,7 @@ class SceneSync:
         self._synced_depsgraph = depsgraph.as_pointer()
         self.stats.last_instance_count = len(walk.instances.mesh_keys)
         self.stats.last_light_count = len(walk.lights)
+        self.stats.last_light_names = walk.light_names
         self.stats.record_sync(time.perf_counter() - start, walk.geometry_seconds, walk.triangles_exported)
         return changed
 
@@ -177,6 +178,7 @@ class _Walk:
         self.sync, self.dirty, self.reports = sync, dirty, reports
         self.instances = _InstanceLists()
         self.lights = []
+        self.light_names = []
         self.materials = [default_material()]
         self.material_index = {}     # original material as_pointer() -> index in self.materials
         self.slot_tables = {}        # (geometry key, original object) -> material index of each slot
@@ -194,6 +196,7 @@ class _Walk:
                 light = convert_light(obj.data, instance.matrix_world, self.reports)
                 if light is not None:
                     self.lights.append(light)
+                    self.light_names.append(obj.name)
             elif draws_geometry(obj):
                 if getattr(instance, "show_self", True):
                     self._add_geometry_instance(instance, obj)

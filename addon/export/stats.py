@@ -18,6 +18,7 @@ class SyncStats:
     last_triangles_exported: int = 0
     last_instance_count: int = 0
     last_light_count: int = 0
+    last_light_names: list = field(default_factory=list)  # in the order the lights were sent
     history: list = field(default_factory=list, repr=False)  # (sync seconds, triangles exported) per sync
 
     def record_sync(self, seconds, geometry_seconds, triangles):

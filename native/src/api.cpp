@@ -139,7 +139,8 @@ int32_t bounce_aov_channels(int32_t aov) {
     case BOUNCE_AOV_ALBEDO:
     case BOUNCE_AOV_NORMAL:
     case BOUNCE_AOV_INDIRECT:
-    case BOUNCE_AOV_VPL_LEVELS:
+    case BOUNCE_AOV_VPLS:
+    case BOUNCE_AOV_SECOND_BOUNCE:
       return 3;
     case BOUNCE_AOV_DEPTH:
       return 1;
@@ -149,8 +150,8 @@ int32_t bounce_aov_channels(int32_t aov) {
 }
 
 const char* bounce_aov_name(int32_t aov) {
-  static const char* const names[BOUNCE_AOV_COUNT] = {"Combined", "Direct", "Emission", "Albedo",
-                                                      "Normal",   "Depth",  "Indirect", "VPL Levels"};
+  static const char* const names[BOUNCE_AOV_COUNT] = {"Combined", "Direct",   "Emission", "Albedo",       "Normal",
+                                                      "Depth",    "Indirect", "VPLs",     "Second Bounce"};
   return aov >= 0 && aov < BOUNCE_AOV_COUNT ? names[aov] : "";
 }
 

@@ -169,7 +169,7 @@ void GpuScene::rebuild() {
   gl::check("uploading the instance and material tables");
 }
 
-void GpuScene::draw() const {
+void GpuScene::draw(GLenum mode) const {
   glBindVertexArray(vertex_array_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kInstances, instance_buffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kInstanceLists, instance_list_buffer_.id());
@@ -189,8 +189,8 @@ void GpuScene::draw() const {
     glBindTextureUnit(binding::kBaseColorUnit, texture);
     glUniform1i(binding::kInstanceOffset, static_cast<GLint>(batch.instance_offset));
     glUniform1i(binding::kMaterial, static_cast<GLint>(batch.material));
-    glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(batch.first_vertex),
-                          static_cast<GLsizei>(batch.vertex_count), static_cast<GLsizei>(batch.instance_count));
+    glDrawArraysInstanced(mode, static_cast<GLint>(batch.first_vertex), static_cast<GLsizei>(batch.vertex_count),
+                          static_cast<GLsizei>(batch.instance_count));
   }
   glBindVertexArray(0);
 }

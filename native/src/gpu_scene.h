@@ -46,10 +46,11 @@ class GpuScene {
   // Rebuilds batches and tables if anything changed since the last call.
   void prepare();
   // Draws every batch with the bound program, binding each batch's base-colour texture (cut-outs are
-  // discarded by the shaders, per material).
-  void draw() const;
+  // discarded by the shaders, per material). GL_PATCHES draws 3-vertex patches for a tessellating program.
+  void draw(GLenum mode = GL_TRIANGLES) const;
 
   const std::vector<BounceLight>& lights() const { return lights_.lights; }
+  uint32_t light_source_index(std::size_t i) const { return lights_.source_index[i]; }
   const BounceWorld& world() const { return world_; }
   // Bumped whenever drawn geometry changes (meshes, instances, cut-out materials): shadow maps depend on it.
   uint64_t geometry_version() const { return geometry_version_; }

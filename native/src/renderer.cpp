@@ -67,11 +67,15 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
     return count;
   };
   const bool flc = settings.method == BOUNCE_METHOD_FLC;
-  uint32_t vpl_count = 0, divergent_count = 0;
+  const bool ssvp = settings.method == BOUNCE_METHOD_SSVP;
+  uint32_t vpl_count = 0, divergent_count = 0, cluster_count = 0;
+  int main_light = -1;
   auto finish_info = [&](Frame& into, int samples_done) {
     timer_.resolve();
     into.info.vpl_count = vpl_count;
     into.info.divergent_triangles = divergent_count;
+    into.info.main_light = main_light;
+    into.info.cluster_count = static_cast<int32_t>(cluster_count);
     into.info.width = into.width;
     into.info.height = into.height;
     into.info.samples = samples_done;
@@ -110,9 +114,16 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
         vpl_count = flc_.vpl_count();
         divergent_count = flc_.divergent_count();
       }
-      const bool indirect = flc && flc_.active();
-      compose_.accumulate(context, gbuffer_.gbuffer(), direct_.output(), indirect ? flc_.indirect() : 0,
-                          indirect ? flc_.levels() : 0);
+      ComposePass::Indirect indirect;
+      if (flc && flc_.active()) indirect = {flc_.indirect(), false, flc_.levels(), 0};
+      if (ssvp) {
+        ssvp_.execute(context, gbuffer_, gbuffer_.gbuffer());
+        vpl_count = ssvp_.vpl_count();
+        cluster_count = ssvp_.cluster_count();
+        main_light = ssvp_.main_light() < 0 ? -1 : static_cast<int>(scene_.light_source_index(ssvp_.main_light()));
+        if (ssvp_.active()) indirect = {ssvp_.indirect(), true, ssvp_.debug(), ssvp_.second()};
+      }
+      compose_.accumulate(context, gbuffer_.gbuffer(), direct_.output(), indirect);
       gl::check("rendering a sample");
       timer_.resolve();
       const int done = static_cast<int>(t) * samples + s + 1;

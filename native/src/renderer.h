@@ -16,6 +16,7 @@
 #include "passes/flc/flc_pass.h"
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/shadows/shadow_pass.h"
+#include "passes/ssvp/ssvp_pass.h"
 #include "stage_timer.h"
 
 namespace bounce {
@@ -45,6 +46,7 @@ class Renderer {
   ShadowPass shadows_;
   DirectPass direct_;
   FlcPass flc_;
+  SsvpPass ssvp_;
   ComposePass compose_;
 };
 

@@ -164,6 +164,7 @@ LightList prepare_lights(uint32_t count, const BounceLight* lights) {
     light.spot_blend = std::clamp(light.spot_blend, 0.0f, 1.0f);
     light.sun_angle = std::clamp(light.sun_angle, 0.0f, 3.14159265f);
     list.lights.push_back(light);
+    list.source_index.push_back(i);
   }
   return list;
 }

@@ -56,7 +56,8 @@ struct InstanceList {
 std::shared_ptr<const InstanceList> prepare_instances(const BounceInstancesDesc& desc);
 
 struct LightList {
-  std::vector<BounceLight> lights;  // finite, with some positive intensity
+  std::vector<BounceLight> lights;     // finite, with some positive intensity
+  std::vector<uint32_t> source_index;  // each one's index in the list the caller gave
   uint32_t skipped = 0;
 };
 

@@ -22,6 +22,16 @@ const char* stage_name(Stage stage) {
       return "FLC splat";
     case Stage::FlcResolve:
       return "FLC untile + blur";
+    case Stage::SsvpRsm:
+      return "SSVP RSM";
+    case Stage::SsvpCluster:
+      return "SSVP sampling + clustering";
+    case Stage::SsvpParaboloids:
+      return "SSVP paraboloids";
+    case Stage::SsvpShade:
+      return "SSVP shading";
+    case Stage::SsvpDenoise:
+      return "SSVP denoise";
     case Stage::Compose:
       return "Compose";
     case Stage::Readback:

@@ -14,11 +14,16 @@ enum class Stage {
   GBuffer,
   Shadows,
   Direct,
-  FlcRegular,    // Forward Light Cuts: regular pipeline (decimation, partition, VPLs)
-  FlcDivergent,  // subdivision of the divergent triangles
-  FlcLighting,   // direct irradiance at the VPLs
-  FlcSplat,      // splatting into the interleaved sub-images
-  FlcResolve,    // untiling and blur
+  FlcRegular,       // Forward Light Cuts: regular pipeline (decimation, partition, VPLs)
+  FlcDivergent,     // subdivision of the divergent triangles
+  FlcLighting,      // direct irradiance at the VPLs
+  FlcSplat,         // splatting into the interleaved sub-images
+  FlcResolve,       // untiling and blur
+  SsvpRsm,          // Screen-Space VPL Propagation: the main light's reflective shadow map
+  SsvpCluster,      // first-bounce sampling, k-means, second-bounce propagation (the paper's "Misc")
+  SsvpParaboloids,  // one paraboloid map per cluster
+  SsvpShade,        // interleaved shading of both bounces, debug view
+  SsvpDenoise,      // geometry-aware blur
   Compose,
   Readback,
   Count

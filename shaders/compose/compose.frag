@@ -1,15 +1,18 @@
-// One sample's AOVs (Combined = direct + indirect + emission), added into the accumulation targets (depth: kept at its minimum by a MIN blend).
+// One sample's AOVs (Combined = direct + indirect + emission), added into the accumulation targets (depth: kept
+// at its minimum by a MIN blend). Indirect light arrives reflected (FLC) or as irradiance / pi, to be
+// multiplied by the albedo here (SSVP, which blurs before the albedo so textures stay sharp).
 layout(binding = 1) uniform sampler2D g_albedo;
 layout(binding = 2) uniform sampler2D g_normal;
 layout(binding = 3) uniform sampler2D g_position;
 layout(binding = 4) uniform sampler2D g_emission;
 layout(binding = 8) uniform sampler2D direct_light;
 layout(binding = 11) uniform sampler2D indirect_light;
-layout(binding = 12) uniform sampler2D vpl_levels;
+layout(binding = 12) uniform sampler2D vpls;
 
 layout(location = 0) uniform vec3 u_background;
 layout(location = 1) uniform float u_background_alpha;
 layout(location = 2) uniform int u_has_indirect;
+layout(location = 3) uniform int u_indirect_times_albedo;
 
 layout(location = 0) out vec4 out_combined;
 layout(location = 1) out vec4 out_direct;
@@ -18,14 +21,14 @@ layout(location = 3) out vec4 out_albedo;
 layout(location = 4) out vec4 out_normal;
 layout(location = 5) out vec4 out_depth;
 layout(location = 6) out vec4 out_indirect;
-layout(location = 7) out vec4 out_vpl_levels;
+layout(location = 7) out vec4 out_vpls;
 
 const float BACKGROUND_DEPTH = 1e10;  // Blender's Depth pass value where nothing is hit
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec4 albedo = texelFetch(g_albedo, pixel, 0);
-  out_vpl_levels = u_has_indirect != 0 ? vec4(texelFetch(vpl_levels, pixel, 0).rgb, 0.0) : vec4(0.0);
+  out_vpls = u_has_indirect != 0 ? vec4(texelFetch(vpls, pixel, 0).rgb, 0.0) : vec4(0.0);
   if (albedo.a == 0.0) {
     out_combined = vec4(u_background, u_background_alpha);
     out_direct = out_emission = out_albedo = out_normal = out_indirect = vec4(0.0);
@@ -35,6 +38,7 @@ void main() {
   vec3 direct = texelFetch(direct_light, pixel, 0).rgb;
   vec3 emission = texelFetch(g_emission, pixel, 0).rgb;
   vec3 indirect = u_has_indirect != 0 ? texelFetch(indirect_light, pixel, 0).rgb : vec3(0.0);
+  if (u_indirect_times_albedo != 0) indirect *= albedo.rgb;
   out_combined = vec4(direct + indirect + emission, 1.0);
   out_indirect = vec4(indirect, 0.0);
   out_direct = vec4(direct, 0.0);

@@ -40,6 +40,25 @@ inline BounceLight make_light(int type, glm::vec3 position, glm::vec3 intensity)
   return light;
 }
 
+// A UV sphere of radius r around the origin.
+inline void sphere_mesh(float r, int segments, int rings, std::vector<float>& positions,
+                        std::vector<uint32_t>& triangles) {
+  for (int j = 0; j <= rings; ++j) {
+    const float theta = kPi * j / rings;
+    for (int i = 0; i <= segments; ++i) {
+      const float phi = 2.0f * kPi * i / segments;
+      positions.insert(positions.end(),
+                       {r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi), r * std::cos(theta)});
+    }
+  }
+  const auto at = [&](int i, int j) { return static_cast<uint32_t>(j * (segments + 1) + i); };
+  for (int j = 0; j < rings; ++j)
+    for (int i = 0; i < segments; ++i) {
+      if (j > 0) triangles.insert(triangles.end(), {at(i, j), at(i, j + 1), at(i + 1, j)});
+      if (j < rings - 1) triangles.insert(triangles.end(), {at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)});
+    }
+}
+
 class RenderFixture : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -100,6 +119,27 @@ class RenderFixture : public ::testing::Test {
     camera_.width = width;
     camera_.height = height;
   }
+  // The furnace of the issues: a closed diffuse sphere (R = 2, albedo 0.8) with a 1000 W point light at its
+  // centre, seen from the centre. First-bounce irradiance on the wall: rho Phi / (4 pi R^2); second: rho times it.
+  void build_furnace() {
+    std::vector<float> positions;
+    std::vector<uint32_t> triangles;
+    sphere_mesh(2.0f, 96, 48, positions, triangles);
+    add_mesh(1, positions, triangles);
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(0.8f);
+    set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(0.0f), glm::vec3(1000.0f / (4.0f * kPi)))});
+    const glm::mat4 view = glm::lookAt(glm::vec3(0.0f), glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
+    set_camera(view, glm::perspective(glm::radians(60.0f), 1.0f, 0.05f, 10.0f), 48, 48);
+    settings_.filter_width = 0.0f;
+  }
+  static double mean_red(const Image& image) {
+    double sum = 0.0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) sum += image.at(x, y)[0];
+    return sum / (image.width * image.height);
+  }
+
   // Renders and returns one AOV; fails the test on any render error.
   Image render(int aov = BOUNCE_AOV_COMBINED) {
     EXPECT_EQ(bounce_render_start(engine_, &settings_, &camera_), BOUNCE_OK) << bounce_last_error();

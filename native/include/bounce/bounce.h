@@ -66,7 +66,12 @@ typedef struct BounceSettings {
 #undef BOUNCE_SETTING
 } BounceSettings;
 
-typedef enum BounceMethod { BOUNCE_METHOD_AUTO = 0, BOUNCE_METHOD_DIRECT = 1, BOUNCE_METHOD_FLC = 2 } BounceMethod;
+typedef enum BounceMethod {
+  BOUNCE_METHOD_AUTO = 0,
+  BOUNCE_METHOD_DIRECT = 1,
+  BOUNCE_METHOD_FLC = 2,
+  BOUNCE_METHOD_SSVP = 3
+} BounceMethod;
 
 BOUNCE_API size_t bounce_settings_size(void);
 BOUNCE_API void bounce_settings_defaults(BounceSettings* out);
@@ -222,15 +227,17 @@ typedef struct BounceCamera {
 } BounceCamera;
 
 typedef enum BounceAov {
-  BOUNCE_AOV_COMBINED = 0,   /* RGBA: direct + indirect + emission + background */
-  BOUNCE_AOV_DIRECT = 1,     /* RGB: direct diffuse light reflected (albedo included) */
-  BOUNCE_AOV_EMISSION = 2,   /* RGB */
-  BOUNCE_AOV_ALBEDO = 3,     /* RGB: diffuse colour */
-  BOUNCE_AOV_NORMAL = 4,     /* XYZ: world-space shading normal */
-  BOUNCE_AOV_DEPTH = 5,      /* Z: distance along the view axis (Blender's Depth pass); 1e10 for background */
-  BOUNCE_AOV_INDIRECT = 6,   /* RGB: indirect diffuse light reflected (albedo included) */
-  BOUNCE_AOV_VPL_LEVELS = 7, /* RGB: debug view, the virtual point lights of one sample coloured by level (FLC) */
-  BOUNCE_AOV_COUNT = 8
+  BOUNCE_AOV_COMBINED = 0,      /* RGBA: direct + indirect + emission + background */
+  BOUNCE_AOV_DIRECT = 1,        /* RGB: direct diffuse light reflected (albedo included) */
+  BOUNCE_AOV_EMISSION = 2,      /* RGB */
+  BOUNCE_AOV_ALBEDO = 3,        /* RGB: diffuse colour */
+  BOUNCE_AOV_NORMAL = 4,        /* XYZ: world-space shading normal */
+  BOUNCE_AOV_DEPTH = 5,         /* Z: distance along the view axis (Blender's Depth pass); 1e10 for background */
+  BOUNCE_AOV_INDIRECT = 6,      /* RGB: indirect diffuse light reflected (albedo included) */
+  BOUNCE_AOV_VPLS = 7,          /* RGB: debug view of one sample's virtual point lights (FLC: coloured by level;
+                                   SSVP: by cluster, with the cluster centres as large dots) */
+  BOUNCE_AOV_SECOND_BOUNCE = 8, /* RGB: the second diffuse bounce alone, reflected (SSVP; part of Indirect) */
+  BOUNCE_AOV_COUNT = 9
 } BounceAov;
 
 BOUNCE_API int32_t bounce_aov_channels(int32_t aov); /* 4, 3 or 1; 0 for an unknown AOV */
@@ -278,8 +285,10 @@ typedef struct BounceFrameInfo {
   int32_t stage_count;
   BounceStageTime stages[BOUNCE_MAX_STAGES];
   uint64_t nonfinite_pixels;    /* pixels whose value was NaN/Inf before being zeroed (should be 0) */
-  uint64_t vpl_count;           /* virtual point lights of the last sample (FLC) */
+  uint64_t vpl_count;           /* virtual point lights of the last sample (FLC, SSVP: both bounces) */
   uint64_t divergent_triangles; /* triangles the last sample sent to the tessellator (FLC) */
+  int32_t main_light;           /* SSVP: the light that bounces, as its index in bounce_lights_set's list; -1 none */
+  int32_t cluster_count;        /* SSVP: k-means clusters of the last sample */
 } BounceFrameInfo;
 
 /* The most recently published frame: after each progressive sample of a render (viewport) and at its end.

@@ -8,46 +8,59 @@ namespace bounce {
 
 ComposePass::ComposePass()
     : program_(gl::build_program(
-          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "compose/compose.frag"}})) {}
+          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "compose/compose.frag"}})),
+      add_times_albedo_(gl::build_program(
+          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "compose/add_times_albedo.frag"}})) {}
 
 void ComposePass::clear(int width, int height) {
   if (width_ != width || height_ != height) {
     std::vector<GLuint> ids;
     for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov) {
       targets_[aov] = gl::make_texture_2d(aov == BOUNCE_AOV_DEPTH ? GL_R32F : GL_RGBA32F, width, height);
-      ids.push_back(targets_[aov].id());
+      if (aov < kComposedAovs) ids.push_back(targets_[aov].id());
     }
     framebuffer_ = gl::make_framebuffer(ids, 0);
+    second_bounce_framebuffer_ = gl::make_framebuffer({targets_[BOUNCE_AOV_SECOND_BOUNCE].id()}, 0);
     gl::check("allocating the accumulation targets");
     width_ = width;
     height_ = height;
   }
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   const float background_depth[4] = {1e10f, 0.0f, 0.0f, 0.0f};
-  for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
+  for (int aov = 0; aov < kComposedAovs; ++aov)
     glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, aov, aov == BOUNCE_AOV_DEPTH ? background_depth : zero);
+  glClearNamedFramebufferfv(second_bounce_framebuffer_.id(), GL_COLOR, 0, zero);
 }
 
-void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct, GLuint indirect,
-                             GLuint vpl_levels) {
+void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct,
+                             const Indirect& indirect) {
   StageScope scope(context.timer, Stage::Compose);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, context.width, context.height);
   gbuffer.bind_for_reading();
   glBindTextureUnit(8, direct);
-  glBindTextureUnit(11, indirect);
-  glBindTextureUnit(12, vpl_levels);
+  glBindTextureUnit(11, indirect.light);
+  glBindTextureUnit(12, indirect.vpls);
   glUseProgram(program_.id());
   const BounceWorld& world = context.scene.world();
   glUniform3fv(0, 1, world.background);
   glUniform1f(1, world.transparent ? 0.0f : 1.0f);
-  glUniform1i(2, indirect != 0);
+  glUniform1i(2, indirect.light != 0);
+  glUniform1i(3, indirect.times_albedo ? 1 : 0);
   glEnable(GL_BLEND);
-  for (GLuint aov = 0; aov < BOUNCE_AOV_COUNT; ++aov) {
+  for (GLuint aov = 0; aov < kComposedAovs; ++aov) {
     glBlendFunci(aov, GL_ONE, GL_ONE);
     glBlendEquationi(aov, aov == BOUNCE_AOV_DEPTH ? GL_MIN : GL_FUNC_ADD);
   }
   draw_fullscreen_triangle();
+  if (indirect.second_bounce != 0) {
+    glBindFramebuffer(GL_FRAMEBUFFER, second_bounce_framebuffer_.id());
+    glBindTextureUnit(12, indirect.second_bounce);
+    glUseProgram(add_times_albedo_.id());
+    glBlendFunci(0, GL_ONE, GL_ONE);
+    glBlendEquationi(0, GL_FUNC_ADD);
+    draw_fullscreen_triangle();
+  }
   glDisable(GL_BLEND);
 }
 

@@ -15,17 +15,24 @@ class ComposePass {
  public:
   ComposePass();
   void clear(int width, int height);
-  // `indirect` and `vpl_levels` are 0 when no indirect method ran.
-  void accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct, GLuint indirect,
-                  GLuint vpl_levels);
+  // What an indirect method hands over; textures are 0 where it has none.
+  struct Indirect {
+    GLuint light = 0;  // reflected radiance, or irradiance / pi when times_albedo
+    bool times_albedo = false;
+    GLuint vpls = 0;           // debug view
+    GLuint second_bounce = 0;  // irradiance / pi
+  };
+  void accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct, const Indirect& indirect);
   // Averages `samples` accumulated samples of AOV `aov` into dst (width * height * channels floats) at the
   // pixel offset (x, y) of a frame `frame_width` wide; returns how many values were not finite (set to 0).
   uint64_t read(int aov, int samples, float* frame, int frame_width, int x, int y) const;
 
  private:
-  gl::Program program_;
+  static constexpr int kComposedAovs = 8;  // written by compose.frag at once (GL guarantees 8 draw buffers)
+
+  gl::Program program_, add_times_albedo_;
   std::array<gl::Texture, BOUNCE_AOV_COUNT> targets_;
-  gl::Framebuffer framebuffer_;
+  gl::Framebuffer framebuffer_, second_bounce_framebuffer_;
   int width_ = 0, height_ = 0;
   mutable std::vector<float> scratch_;
 };

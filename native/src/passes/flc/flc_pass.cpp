@@ -73,10 +73,8 @@ FlcPass::FlcPass()
                                 {GL_FRAGMENT_SHADER, "flc/flc_splat.frag"}})),
       untile_(gl::build_program(
           {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "flc/flc_untile.frag"}})),
-      blur_(
-          gl::build_program({{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "flc/flc_blur.frag"}})),
-      levels_program_(
-          gl::build_program({{GL_VERTEX_SHADER, "flc/flc_levels.vert"}, {GL_FRAGMENT_SHADER, "flc/flc_levels.frag"}})),
+      levels_program_(gl::build_program(
+          {{GL_VERTEX_SHADER, "flc/flc_levels.vert"}, {GL_FRAGMENT_SHADER, "common/flat_colour.frag"}})),
       params_buffer_(gl::make_buffer(sizeof(FlcParams), nullptr)),
       counters_(gl::make_buffer(sizeof(Counters), nullptr)) {
   // Alg. 2's noise texture: one uniform uint32 per texel.
@@ -181,10 +179,6 @@ void FlcPass::resize(int width, int height, const FlcParams& params) {
   if (width != width_ || height != height_) {
     untiled_ = gl::make_texture_2d(GL_RGBA32F, width, height);
     untiled_target_ = gl::make_framebuffer({untiled_.id()}, 0);
-    blur_temp_ = gl::make_texture_2d(GL_RGBA32F, width, height);
-    blur_temp_target_ = gl::make_framebuffer({blur_temp_.id()}, 0);
-    blurred_ = gl::make_texture_2d(GL_RGBA32F, width, height);
-    blurred_target_ = gl::make_framebuffer({blurred_.id()}, 0);
     levels_ = gl::make_texture_2d(GL_RGBA16F, width, height);
     levels_depth_ = 0;
     width_ = width;
@@ -235,21 +229,7 @@ void FlcPass::shade(const RenderContext& context, const GBuffer& gbuffer) {
       glBindTextureUnit(kSourceUnit, tiled_.id());
       draw_fullscreen_triangle();
     }
-    resolved_ = untiled_.id();
-    const int radius = context.settings.flc_blur_radius;
-    if (radius > 0) {
-      glUseProgram(blur_.id());
-      glUniform1i(1, radius);
-      glBindFramebuffer(GL_FRAMEBUFFER, blur_temp_target_.id());
-      glBindTextureUnit(kSourceUnit, untiled_.id());
-      glUniform2i(0, 1, 0);
-      draw_fullscreen_triangle();
-      glBindFramebuffer(GL_FRAMEBUFFER, blurred_target_.id());
-      glBindTextureUnit(kSourceUnit, blur_temp_.id());
-      glUniform2i(0, 0, 1);
-      draw_fullscreen_triangle();
-      resolved_ = blurred_.id();
-    }
+    resolved_ = blur_.run(untiled_.id(), gbuffer, context.settings.flc_blur_radius);
   }
   {
     StageScope scope(context.timer, Stage::FlcSplat);

@@ -13,6 +13,7 @@
 #include <cstdint>
 
 #include "gl/objects.h"
+#include "passes/blur/geometry_blur.h"
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/render_context.h"
 
@@ -56,7 +57,8 @@ class FlcPass {
   void run_pipelines(const RenderContext& context);
   void resize(int width, int height, const FlcParams& params);
 
-  gl::Program regular_, divergent_, lighting_, splat_, untile_, blur_, levels_program_;
+  gl::Program regular_, divergent_, lighting_, splat_, untile_, levels_program_;
+  GeometryBlur blur_;
   gl::Buffer params_buffer_, counters_, vpls_, divergents_;
   gl::Texture noise_;
   FlcParams params_{};
@@ -64,8 +66,8 @@ class FlcPass {
   uint32_t vpl_capacity_ = 0, divergent_capacity_ = 0;
   uint32_t vpl_count_ = 0, divergent_count_ = 0;
 
-  gl::Texture tiled_, untiled_, blur_temp_, blurred_, levels_;
-  gl::Framebuffer tiled_target_, untiled_target_, blur_temp_target_, blurred_target_, levels_target_;
+  gl::Texture tiled_, untiled_, levels_;
+  gl::Framebuffer tiled_target_, untiled_target_, levels_target_;
   GLuint resolved_ = 0;
   int width_ = 0, height_ = 0, tiled_width_ = 0, tiled_height_ = 0;
   GLuint levels_depth_ = 0;

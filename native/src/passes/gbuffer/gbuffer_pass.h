@@ -1,6 +1,8 @@
 // G-buffer pass. Shaders: shaders/gbuffer/gbuffer.vert, shaders/gbuffer/gbuffer.frag.
 #pragma once
 
+#include <span>
+
 #include "gl/objects.h"
 #include "passes/render_context.h"
 
@@ -19,14 +21,27 @@ struct GBuffer {
   void bind_for_reading() const;  // texture units 1-5, as declared in the lighting shaders
 };
 
+GBuffer make_gbuffer(int width, int height);
+
+// One view drawn into a G-buffer: the camera's, or one face of a light's reflective shadow map.
+struct GBufferView {
+  glm::mat4 view_projection;
+  glm::mat4 world_to_view;  // its -z is the depth stored in position.w
+  glm::vec3 eye;            // perspective: normals are flipped towards it
+  glm::vec3 forward;        // orthographic: normals are flipped against it
+  bool orthographic;
+  glm::ivec4 viewport;  // x, y, width, height in the target
+};
+
 class GBufferPass {
  public:
   GBufferPass();
-  void execute(const RenderContext& context);
+  void execute(const RenderContext& context);  // the camera's view into gbuffer()
+  // Clears `target` and draws every view into its viewport.
+  void render(GBuffer& target, std::span<const GBufferView> views, const GpuScene& scene) const;
   const GBuffer& gbuffer() const { return gbuffer_; }
 
  private:
-  void resize(int width, int height);
   gl::Program program_;
   GBuffer gbuffer_;
 };

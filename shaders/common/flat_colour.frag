@@ -1,3 +1,4 @@
+// A flat colour per primitive (debug dots).
 flat in vec3 v_colour;
 
 layout(location = 0) out vec4 out_colour;

@@ -1,0 +1,69 @@
+// Screen-Space VPL Propagation (Aranha et al. 2020), host side: the functions of shaders/ssvp/ssvp_shared.glsl
+// compiled for the host, the sample sets the pass uploads, the choice of the main light and the k-means
+// clustering of the first-bounce VPLs (Sec. II-A). All deterministic; unit-tested in tests/native.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "bounce/bounce.h"
+#include "sampling.h"
+
+namespace bounce::ssvp {
+
+using glm::sqrt;
+using glm::vec2;
+using glm::vec3;
+using uint = uint32_t;
+
+#define SSVP_INLINE inline
+#include "ssvp/ssvp_shared.glsl"
+#undef SSVP_INLINE
+
+// The n points of Eq. 1, shifted modulo 1 by `rotation` (Cranley-Patterson). Progressive sample 0 uses no
+// shift, so a still scene samples the same VPLs every frame (Sec. III-C); later samples rotate the set, so the
+// samples together cover the RSM.
+std::vector<glm::vec2> hammersley_set(uint32_t n, glm::vec2 rotation);
+
+// `n` points uniform on the unit disk for the paraboloid maps: the Hammersley set through Shirley and Chiu's
+// concentric map (area-preserving, so uniform; PBRT's disk sampling, [9] of the paper).
+std::vector<glm::vec2> disk_set(uint32_t n, glm::vec2 rotation);
+
+// The light whose estimated flux into the scene's bounding sphere (centre, radius) is the largest: it alone
+// gets a reflective shadow map. -1 when no light emits into the scene.
+int choose_main_light(std::span<const BounceLight> lights, glm::vec3 centre, float radius);
+float estimated_flux_into_sphere(const BounceLight& light, glm::vec3 centre, float radius);
+
+struct ClusterPoint {
+  glm::vec3 position;
+  glm::vec3 normal;  // unit
+};
+
+struct Cluster {
+  glm::vec3 position;  // the members' mean
+  glm::vec3 normal;    // the members' normalised normal sum
+  uint32_t count = 0;
+};
+
+struct ClusterMetric {
+  float w1 = 0.6f, w2 = 0.4f;  // Eq. 2 weights (the paper's values)
+  float length_scale = 1.0f;   // positions are measured against this (the scene's diameter)
+};
+
+struct Clustering {
+  std::vector<Cluster> clusters;     // none empty; fewer than asked when there are fewer distinct points
+  std::vector<uint32_t> assignment;  // one cluster index per point
+  int iterations = 0;
+};
+
+// Lloyd's k-means under the metric of Eq. 2 (ssvp_cluster_distance). `seeds` (the previous frame's clusters,
+// Sec. III-C) start the iteration; missing seeds are added by k-means++ drawn from `seed`. An empty cluster is
+// re-seeded with the point farthest from its centre, or dropped when every point already sits on a centre.
+// A cluster whose normals cancel takes the normal of its member nearest the mean.
+Clustering cluster_points(std::span<const ClusterPoint> points, int k, const ClusterMetric& metric,
+                          std::span<const Cluster> seeds, uint32_t seed, int max_iterations = 16);
+
+}  // namespace bounce::ssvp

@@ -1,0 +1,424 @@
+#include "passes/ssvp/ssvp_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "error.h"
+#include "gl/shader.h"
+#include "passes/direct/direct_pass.h"
+#include "sampling.h"
+
+namespace bounce {
+
+namespace {
+
+constexpr GLuint kParamsBlock = 5;
+constexpr GLuint kPointsBinding = 6;
+constexpr GLuint kFirstBinding = 7;
+constexpr GLuint kClustersBinding = 8;
+constexpr GLuint kSecondBinding = 9;
+constexpr GLuint kParaboloidPositionUnit = 13;
+constexpr GLuint kParaboloidNormalUnit = 14;
+constexpr GLuint kParaboloidAlbedoUnit = 15;
+constexpr float kPi = 3.14159265358979f;
+constexpr float kWidestPerspectiveHalfAngle = 75.0f * kPi / 180.0f;
+constexpr int kMinSecondPerCluster = 32;  // Sec. III-D
+constexpr double kParaboloidMemoryBudget = 512.0 * 1024.0 * 1024.0;
+constexpr int kParaboloidBytesPerTexel = 16 + 8 + 8 + 4;
+constexpr int kRsmOrthographic = 1, kRsmPerspective = 2, kRsmCube = 3;
+
+struct GpuVpl {
+  glm::vec4 position_cluster, normal, flux;
+};
+struct GpuCluster {
+  glm::vec4 position_first, normal_count, tangent, bitangent;
+};
+
+glm::vec3 vec3_of(const float* v) { return {v[0], v[1], v[2]}; }
+
+glm::vec3 any_perpendicular(glm::vec3 d) {
+  const glm::vec3 axis = std::abs(d.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
+  return glm::normalize(glm::cross(d, axis));
+}
+
+void upload(gl::Buffer& buffer, std::size_t& capacity, std::size_t bytes, const void* data) {
+  gl::upload_buffer(buffer, capacity, std::max<std::size_t>(bytes, 16), data);
+}
+
+}  // namespace
+
+SsvpPass::SsvpPass()
+    : sample_program_(gl::build_program({{GL_COMPUTE_SHADER, "ssvp/ssvp_sample.comp"}})),
+      paraboloid_program_(gl::build_program({{GL_VERTEX_SHADER, "gbuffer/gbuffer.vert"},
+                                             {GL_TESS_CONTROL_SHADER, "ssvp/ssvp_paraboloid.tesc"},
+                                             {GL_TESS_EVALUATION_SHADER, "ssvp/ssvp_paraboloid.tese"},
+                                             {GL_FRAGMENT_SHADER, "ssvp/ssvp_paraboloid.frag"}})),
+      propagate_program_(gl::build_program({{GL_COMPUTE_SHADER, "ssvp/ssvp_propagate.comp"}})),
+      shade_program_(gl::build_program(
+          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "ssvp/ssvp_shade.frag"}})),
+      debug_program_(gl::build_program(
+          {{GL_VERTEX_SHADER, "ssvp/ssvp_debug.vert"}, {GL_FRAGMENT_SHADER, "common/flat_colour.frag"}})),
+      params_buffer_(gl::make_buffer(sizeof(SsvpParams), nullptr)),
+      light_buffer_(gl::make_buffer(sizeof(LightBlock), nullptr)) {
+  GLint max_tess_level = 64;
+  glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_tess_level);
+  max_tess_level_ = static_cast<float>(max_tess_level);
+  gl::check("creating the SSVP pass");
+}
+
+void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers, const GBuffer& camera) {
+  first_count_ = second_count_ = 0;
+  main_light_ = -1;
+  clusters_.clear();
+  const glm::vec3 lo = context.scene.bounds_min(), hi = context.scene.bounds_max();
+  const float scene_radius = 0.5f * glm::length(hi - lo);
+  if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
+  const auto& lights = context.scene.lights();
+  main_light_ = ssvp::choose_main_light(lights, 0.5f * (lo + hi), scene_radius);
+  if (main_light_ < 0) return;
+  const BounceLight& light = lights[static_cast<std::size_t>(main_light_)];
+  const BounceSettings& s = context.settings;
+
+  SsvpParams& p = params_;
+  p = {};
+  p.first_count = std::clamp(s.ssvp_vpls, 1, 1 << 16);
+  p.tiles_per_axis = 1 << std::clamp(s.ssvp_tiling, 0, 4);
+  p.epsilon = s.ssvp_distance_clamp * scene_radius;
+  p.length_scale = 2.0f * scene_radius;
+  p.w1 = s.ssvp_position_weight;
+  p.w2 = s.ssvp_normal_weight;
+  p.paraboloid_far = 2.2f * p.length_scale;
+  p.centre_offset = 1e-3f * p.length_scale;
+  p.bounces = std::clamp(s.bounces, 1, 2);
+  p.sample = static_cast<int32_t>(context.sample);
+  p.pattern_rotation = static_cast<int32_t>(hash_combine(context.seed, context.sample) % 65536u);
+
+  render_rsm(context, gbuffers, light);
+  sample_first_bounce(context, light);
+  cluster(context);
+  if (clusters_.empty()) {
+    first_count_ = 0;
+    return;
+  }
+  render_paraboloids(context);
+  if (p.bounces > 1) propagate(context);
+  shade(context, camera);
+  draw_debug(context, camera);
+}
+
+void SsvpPass::render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light) {
+  const int size = std::clamp(context.settings.ssvp_rsm_size, 16, 8192);
+  const int kind = light.type == BOUNCE_LIGHT_SUN ? kRsmOrthographic
+                   : light.type == BOUNCE_LIGHT_SPOT && light.spot_half_angle <= kWidestPerspectiveHalfAngle
+                       ? kRsmPerspective
+                       : kRsmCube;
+  const int faces_x = kind == kRsmCube ? 3 : 1, faces_y = kind == kRsmCube ? 2 : 1;
+  const bool reuse = rsm_.gbuffer.width == faces_x * size && rsm_.gbuffer.height == faces_y * size &&
+                     rsm_.kind == kind && rsm_.geometry_version == context.scene.geometry_version() &&
+                     std::memcmp(&rsm_.light, &light, sizeof light) == 0;
+  if (!reuse) {
+    StageScope scope(context.timer, Stage::SsvpRsm);
+    if (rsm_.gbuffer.width != faces_x * size || rsm_.gbuffer.height != faces_y * size)
+      rsm_.gbuffer = make_gbuffer(faces_x * size, faces_y * size);
+    const glm::vec3 lo = context.scene.bounds_min(), hi = context.scene.bounds_max();
+    const glm::vec3 centre = 0.5f * (lo + hi);
+    const float radius = std::max(0.5f * glm::length(hi - lo), 1e-6f) * 1.01f;
+    std::vector<GBufferView> views;
+    if (kind == kRsmOrthographic) {
+      const glm::vec3 towards = glm::normalize(vec3_of(light.axis_z));
+      const glm::mat4 view = glm::lookAt(centre + towards * (2.0f * radius), centre, any_perpendicular(towards));
+      const glm::mat4 projection = glm::ortho(-radius, radius, -radius, radius, 0.5f * radius, 3.5f * radius);
+      views.push_back({projection * view, view, centre, -towards, true, {0, 0, size, size}});
+      rsm_.origin = towards;
+      rsm_.texel_factor = 2.0f * radius / static_cast<float>(size);
+    } else {
+      const glm::vec3 origin = vec3_of(light.position);
+      float farthest = 0.0f;
+      for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 q((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+        farthest = std::max(farthest, glm::length(q - origin));
+      }
+      const float far_plane = std::max(farthest * 1.05f, 1e-5f), near_plane = far_plane * 1e-4f;
+      rsm_.origin = origin;
+      if (kind == kRsmPerspective) {
+        const float half_fov = std::min(light.spot_half_angle + 0.035f, 1.5f);
+        const glm::vec3 forward = -vec3_of(light.axis_z);
+        const glm::mat4 view = glm::lookAt(origin, origin + forward, vec3_of(light.axis_y));
+        views.push_back({glm::perspective(2.0f * half_fov, 1.0f, near_plane, far_plane) * view,
+                         view,
+                         origin,
+                         forward,
+                         false,
+                         {0, 0, size, size}});
+        rsm_.texel_factor = 2.0f * std::tan(half_fov) / static_cast<float>(size);
+      } else {
+        static const glm::vec3 directions[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+        static const glm::vec3 ups[6] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
+        const glm::mat3 frame(vec3_of(light.axis_x), vec3_of(light.axis_y), vec3_of(light.axis_z));
+        const glm::mat4 projection = glm::perspective(0.5f * kPi, 1.0f, near_plane, far_plane);
+        for (int f = 0; f < 6; ++f) {
+          // Area lights and wide spots emit along -z of their frame only: the +z face stays empty.
+          if (f == 4 && light.type != BOUNCE_LIGHT_POINT) continue;
+          const glm::vec3 forward = frame * directions[f];
+          const glm::mat4 view = glm::lookAt(origin, origin + forward, frame * ups[f]);
+          views.push_back(
+              {projection * view, view, origin, forward, false, {(f % 3) * size, (f / 3) * size, size, size}});
+        }
+        rsm_.texel_factor = 2.0f / static_cast<float>(size);
+      }
+    }
+    gbuffers.render(rsm_.gbuffer, views, context.scene);
+    rsm_.light = light;
+    rsm_.geometry_version = context.scene.geometry_version();
+    rsm_.face_size = size;
+    rsm_.faces_x = faces_x;
+    rsm_.faces_y = faces_y;
+    rsm_.kind = kind;
+    gl::check("rendering the reflective shadow map");
+  }
+  params_.light_origin[0] = rsm_.origin.x;
+  params_.light_origin[1] = rsm_.origin.y;
+  params_.light_origin[2] = rsm_.origin.z;
+  params_.light_origin[3] = static_cast<float>(rsm_.kind);
+  params_.rsm_face_size = rsm_.face_size;
+  params_.rsm_faces_x = rsm_.faces_x;
+  params_.rsm_faces_y = rsm_.faces_y;
+  params_.rsm_texel_factor = rsm_.texel_factor;
+}
+
+void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLight& light) {
+  StageScope scope(context.timer, Stage::SsvpCluster);
+  SsvpParams& p = params_;
+  const uint32_t n = static_cast<uint32_t>(p.first_count);
+  p.texels_per_vpl = static_cast<float>(double(rsm_.gbuffer.width) * rsm_.gbuffer.height / n);
+  // Sample 0 samples the same VPLs every frame (Sec. III-C); later samples rotate the set over the RSM.
+  const glm::vec2 rotation =
+      context.sample == 0 ? glm::vec2(0.0f)
+                          : r2_point(context.sample, glm::vec2(hash_to_unit(hash_combine(context.seed, 0x5353u)),
+                                                               hash_to_unit(hash_combine(context.seed, 0x5354u))));
+  // The second bounce's disk points follow in the same buffer.
+  const int clusters_wanted = std::clamp(context.settings.ssvp_clusters, 1, 256);
+  p.second_per_cluster =
+      std::max(kMinSecondPerCluster,
+               (std::clamp(context.settings.ssvp_second_vpls, 1, 1 << 16) + clusters_wanted - 1) / clusters_wanted);
+  std::vector<glm::vec2> points = ssvp::hammersley_set(n, rotation);
+  disk_points_ = ssvp::disk_set(static_cast<uint32_t>(p.second_per_cluster), glm::vec2(rotation.y, rotation.x));
+  points.insert(points.end(), disk_points_.begin(), disk_points_.end());
+  upload(points_, points_capacity_, points.size() * sizeof(glm::vec2), points.data());
+  if (first_capacity_ < n * sizeof(GpuVpl)) upload(first_vpls_, first_capacity_, n * sizeof(GpuVpl), nullptr);
+  glNamedBufferSubData(params_buffer_.id(), 0, sizeof p, &p);
+
+  LightBlock block = make_light_block(light);
+  glNamedBufferSubData(light_buffer_.id(), 0, sizeof block, &block);
+  glBindBufferBase(GL_UNIFORM_BUFFER, binding::kLightBlock, light_buffer_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPointsBinding, points_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFirstBinding, first_vpls_.id());
+  rsm_.gbuffer.bind_for_reading();
+  glUseProgram(sample_program_.id());
+  glDispatchCompute((n + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+  gl::check("sampling the first-bounce VPLs");
+}
+
+void SsvpPass::cluster(const RenderContext& context) {
+  StageScope scope(context.timer, Stage::SsvpCluster);
+  SsvpParams& p = params_;
+  std::vector<GpuVpl> sampled(static_cast<std::size_t>(p.first_count));
+  glGetNamedBufferSubData(first_vpls_.id(), 0, static_cast<GLsizeiptr>(sampled.size() * sizeof(GpuVpl)),
+                          sampled.data());
+  std::vector<GpuVpl> vpls;
+  std::vector<ssvp::ClusterPoint> points;
+  for (const GpuVpl& v : sampled) {
+    if (v.flux.w == 0.0f || !(v.flux.r + v.flux.g + v.flux.b > 0.0f)) continue;
+    vpls.push_back(v);
+    points.push_back({glm::vec3(v.position_cluster), glm::vec3(v.normal)});
+  }
+  const ssvp::ClusterMetric metric{p.w1, p.w2, p.length_scale};
+  const std::vector<ssvp::Cluster> seeds =
+      context.settings.ssvp_temporal_seeding ? previous_clusters_ : std::vector<ssvp::Cluster>{};
+  ssvp::Clustering clustering =
+      ssvp::cluster_points(points, context.settings.ssvp_clusters, metric, seeds, hash_combine(context.seed, 0x4b4du));
+  clusters_ = clustering.clusters;
+  if (clusters_.empty()) return;
+  previous_clusters_ = clusters_;
+
+  // Members sorted by cluster, so a cluster's members are a range (the propagation sums over them); the
+  // interleaved shading takes every T^2-th VPL of this order, which spreads every cluster over the tiles.
+  std::vector<uint32_t> order(vpls.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t a, uint32_t b) { return clustering.assignment[a] < clustering.assignment[b]; });
+  std::vector<GpuVpl> sorted(vpls.size());
+  std::vector<GpuCluster> gpu_clusters(clusters_.size());
+  uint32_t first = 0;
+  for (std::size_t c = 0; c < clusters_.size(); ++c) {
+    const ssvp::Cluster& cluster = clusters_[c];
+    const glm::vec3 tangent = any_perpendicular(cluster.normal);
+    const glm::vec3 centre = cluster.position + cluster.normal * p.centre_offset;
+    gpu_clusters[c] = {glm::vec4(centre, static_cast<float>(first)),
+                       glm::vec4(cluster.normal, static_cast<float>(cluster.count)), glm::vec4(tangent, 0.0f),
+                       glm::vec4(glm::cross(cluster.normal, tangent), 0.0f)};
+    first += cluster.count;
+  }
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    sorted[i] = vpls[order[i]];
+    sorted[i].position_cluster.w = static_cast<float>(clustering.assignment[order[i]]);
+  }
+  first_count_ = static_cast<uint32_t>(sorted.size());
+  p.first_count = static_cast<int32_t>(first_count_);
+  p.cluster_count = static_cast<int32_t>(clusters_.size());
+  p.second_count = p.bounces > 1 ? p.cluster_count * p.second_per_cluster : 0;
+  second_count_ = static_cast<uint32_t>(p.second_count);
+  // The shaders find the disk points after the first `first_count` points: they move down past the samples
+  // that found no surface.
+  glNamedBufferSubData(points_.id(), static_cast<GLintptr>(first_count_ * sizeof(glm::vec2)),
+                       static_cast<GLsizeiptr>(disk_points_.size() * sizeof(glm::vec2)), disk_points_.data());
+  upload(first_vpls_, first_capacity_, sorted.size() * sizeof(GpuVpl), sorted.data());
+  upload(clusters_buffer_, clusters_capacity_, gpu_clusters.size() * sizeof(GpuCluster), gpu_clusters.data());
+  if (second_capacity_ < second_count_ * sizeof(GpuVpl))
+    upload(second_vpls_, second_capacity_, second_count_ * sizeof(GpuVpl), nullptr);
+  glNamedBufferSubData(params_buffer_.id(), 0, sizeof p, &p);
+  gl::check("clustering the first-bounce VPLs");
+}
+
+void SsvpPass::render_paraboloids(const RenderContext& context) {
+  StageScope scope(context.timer, Stage::SsvpParaboloids);
+  const int layers = static_cast<int>(clusters_.size());
+  int size = std::clamp(context.settings.ssvp_paraboloid_size, 16, 4096);
+  while (size > 16 && double(layers) * size * size * kParaboloidBytesPerTexel > kParaboloidMemoryBudget) size /= 2;
+  if (layers > paraboloid_layers_ || size != paraboloid_size_) {
+    const int allocated = std::max(layers, paraboloid_layers_);
+    auto make_array = [&](GLenum format) {
+      GLuint id = 0;
+      glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+      glTextureStorage3D(id, 1, format, size, size, allocated);
+      glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      return gl::Texture(id);
+    };
+    paraboloid_position_ = make_array(GL_RGBA32F);
+    paraboloid_normal_ = make_array(GL_RGBA16F);
+    paraboloid_albedo_ = make_array(GL_RGBA16F);
+    paraboloid_depth_ = make_array(GL_DEPTH_COMPONENT32F);
+    GLuint framebuffer = 0;
+    glCreateFramebuffers(1, &framebuffer);
+    paraboloid_target_ = gl::Framebuffer(framebuffer);
+    const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glNamedFramebufferDrawBuffers(framebuffer, 3, buffers);
+    paraboloid_layers_ = allocated;
+    paraboloid_size_ = size;
+    gl::check("allocating the paraboloid maps");
+  }
+  params_.paraboloid_size = size;
+  glNamedBufferSubData(params_buffer_.id(), 0, sizeof params_, &params_);
+  glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kClustersBinding, clusters_buffer_.id());
+  const GLuint target = paraboloid_target_.id();
+  glBindFramebuffer(GL_FRAMEBUFFER, target);
+  glViewport(0, 0, size, size);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glEnable(GL_CLIP_DISTANCE0);
+  glPatchParameteri(GL_PATCH_VERTICES, 3);
+  glUseProgram(paraboloid_program_.id());
+  glUniform1f(11, max_tess_level_);
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  const float far_depth = 1.0f;
+  for (int c = 0; c < layers; ++c) {
+    glNamedFramebufferTextureLayer(target, GL_COLOR_ATTACHMENT0, paraboloid_position_.id(), 0, c);
+    glNamedFramebufferTextureLayer(target, GL_COLOR_ATTACHMENT1, paraboloid_normal_.id(), 0, c);
+    glNamedFramebufferTextureLayer(target, GL_COLOR_ATTACHMENT2, paraboloid_albedo_.id(), 0, c);
+    glNamedFramebufferTextureLayer(target, GL_DEPTH_ATTACHMENT, paraboloid_depth_.id(), 0, c);
+    for (int i = 0; i < 3; ++i) glClearBufferfv(GL_COLOR, i, zero);
+    glClearBufferfv(GL_DEPTH, 0, &far_depth);
+    glUniform1i(10, c);
+    context.scene.draw(GL_PATCHES);
+  }
+  glDisable(GL_CLIP_DISTANCE0);
+  glDisable(GL_DEPTH_TEST);
+  gl::check("rendering the paraboloid maps");
+}
+
+void SsvpPass::propagate(const RenderContext& context) {
+  StageScope scope(context.timer, Stage::SsvpCluster);
+  glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPointsBinding, points_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFirstBinding, first_vpls_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kClustersBinding, clusters_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSecondBinding, second_vpls_.id());
+  glBindTextureUnit(kParaboloidPositionUnit, paraboloid_position_.id());
+  glBindTextureUnit(kParaboloidNormalUnit, paraboloid_normal_.id());
+  glBindTextureUnit(kParaboloidAlbedoUnit, paraboloid_albedo_.id());
+  glUseProgram(propagate_program_.id());
+  glDispatchCompute((second_count_ + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  gl::check("propagating the second-bounce VPLs");
+}
+
+void SsvpPass::shade(const RenderContext& context, const GBuffer& camera) {
+  if (width_ != context.width || height_ != context.height) {
+    shaded_total_ = gl::make_texture_2d(GL_RGBA32F, context.width, context.height);
+    shaded_second_ = gl::make_texture_2d(GL_RGBA32F, context.width, context.height);
+    shade_target_ = gl::make_framebuffer({shaded_total_.id(), shaded_second_.id()}, 0);
+    debug_ = gl::make_texture_2d(GL_RGBA16F, context.width, context.height);
+    debug_depth_ = 0;
+    width_ = context.width;
+    height_ = context.height;
+    gl::check("allocating the SSVP targets");
+  }
+  {
+    StageScope scope(context.timer, Stage::SsvpShade);
+    glBindFramebuffer(GL_FRAMEBUFFER, shade_target_.id());
+    glViewport(0, 0, width_, height_);
+    camera.bind_for_reading();
+    glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFirstBinding, first_vpls_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kClustersBinding, clusters_buffer_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSecondBinding, second_vpls_.id());
+    glBindTextureUnit(kParaboloidPositionUnit, paraboloid_position_.id());
+    glUseProgram(shade_program_.id());
+    draw_fullscreen_triangle();
+  }
+  StageScope scope(context.timer, Stage::SsvpDenoise);
+  const int radius = context.settings.ssvp_blur_radius;
+  total_ = blur_total_.run(shaded_total_.id(), camera, radius);
+  second_ = params_.bounces > 1 ? blur_second_.run(shaded_second_.id(), camera, radius) : 0;
+}
+
+void SsvpPass::draw_debug(const RenderContext& context, const GBuffer& camera) {
+  StageScope scope(context.timer, Stage::SsvpShade);
+  if (debug_depth_ != camera.depth.id()) {
+    debug_target_ = gl::make_framebuffer({debug_.id()}, camera.depth.id());
+    debug_depth_ = camera.depth.id();
+  }
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  glClearNamedFramebufferfv(debug_target_.id(), GL_COLOR, 0, zero);
+  glBindFramebuffer(GL_FRAMEBUFFER, debug_target_.id());
+  glViewport(0, 0, width_, height_);
+  glUseProgram(debug_program_.id());
+  glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(context.view_projection));
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LEQUAL);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  glBindVertexArray(empty_vertex_array());
+  const GLsizei counts[3] = {static_cast<GLsizei>(first_count_), static_cast<GLsizei>(second_count_),
+                             static_cast<GLsizei>(clusters_.size())};
+  for (int kind = 0; kind < 3; ++kind) {
+    glUniform1i(1, kind);
+    if (counts[kind] > 0) glDrawArrays(GL_POINTS, 0, counts[kind]);
+  }
+  glBindVertexArray(0);
+  glDisable(GL_PROGRAM_POINT_SIZE);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
+  gl::check("drawing the SSVP debug view");
+}
+
+}  // namespace bounce

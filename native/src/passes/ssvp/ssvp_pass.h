@@ -1,0 +1,105 @@
+// Screen-Space VPL Propagation (Aranha et al. 2020): one or two diffuse bounces of the main light.
+// Shaders: shaders/ssvp/. Per sample (Fig. 1):
+//   rsm          - the main light's reflective shadow map (Sec. II-A, Dachsbacher and Stamminger 2005): the
+//                  G-buffer program drawn from the light. Sun: orthographic over the scene's bounding sphere;
+//                  spot up to 75 degrees: one perspective face over its cone; point, area and wider spots: the
+//                  six faces of a cube around the light, in a 3x2 atlas (an area light's back face stays empty),
+//                  which covers all they emit. Kept while the light and the geometry are unchanged.
+//   sample       - first-bounce VPLs at the texels of a 2-D Hammersley set (Eq. 1), each carrying its texel's
+//                  reflected flux: albedo x irradiance x the surface area the texel sees, times texels / VPLs.
+//   cluster      - the VPLs are read back and clustered on the CPU by k-means under Eq. 2 (as intended: see
+//                  shaders/ssvp/ssvp_shared.glsl), seeded with the previous frame's clusters (Sec. III-C).
+//   paraboloids  - per cluster, a paraboloid map of the hemisphere around its normal (Heidrich and Seidel 1998)
+//                  from its mean position: the scene through the tessellator, so long edges bend as they should.
+//   propagate    - second-bounce VPLs (Sec. II-B) at uniform unit-disk points of each cluster's map, each
+//                  carrying albedo x the cluster's intensity towards it (its members' cosine lobes) x the solid
+//                  angle its disk area covers (the map's Jacobian, 4 / (1 + r^2)^2).
+//   shade        - interleaved (Sec. II-C): the pixels of each tile take one share of the VPLs each. A
+//                  first-bounce VPL is shadowed by its own cluster's paraboloid map (clustered visibility, Dong
+//                  et al. 2009); a second-bounce VPL by the map of the cluster nearest it under Eq. 2. Then the
+//                  geometry-aware blur recombines the pixels. Output: linear irradiance / pi of each bounce;
+//                  the compose pass multiplies the albedo (no tone mapping: Blender's colour management does the
+//                  display transform).
+//   debug        - VPLs and cluster centres drawn in cluster colours over the G-buffer's depth.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "gl/objects.h"
+#include "passes/blur/geometry_blur.h"
+#include "passes/gbuffer/gbuffer_pass.h"
+#include "passes/render_context.h"
+#include "passes/ssvp/ssvp_math.h"
+
+namespace bounce {
+
+// std140 mirror of shaders/ssvp/ssvp_common.glsl `SsvpParams`.
+struct SsvpParams {
+  float light_origin[4];  // xyz: the RSM's eye (sun: the direction towards the light), w: RSM kind
+  int32_t first_count, second_count, cluster_count, tiles_per_axis;
+  int32_t rsm_face_size, rsm_faces_x, rsm_faces_y, paraboloid_size;
+  float rsm_texel_factor;  // sun: the texel's side in world units; perspective: 2 tan(half fov) / size
+  float texels_per_vpl;    // RSM texels / first-bounce VPLs
+  float epsilon;           // distance clamp in world units
+  float length_scale;      // the scene's diameter (Eq. 2)
+  float w1, w2, paraboloid_far, centre_offset;
+  int32_t second_per_cluster, bounces, pattern_rotation, sample;
+};
+
+class SsvpPass {
+ public:
+  SsvpPass();
+  void execute(const RenderContext& context, const GBufferPass& gbuffers, const GBuffer& camera);
+
+  bool active() const { return first_count_ > 0; }
+  GLuint indirect() const { return total_; }    // RGBA32F irradiance / pi, both bounces
+  GLuint second() const { return second_; }     // RGBA32F irradiance / pi, the second bounce alone (0: off)
+  GLuint debug() const { return debug_.id(); }  // RGBA16F
+  uint32_t vpl_count() const { return first_count_ + second_count_; }
+  uint32_t cluster_count() const { return static_cast<uint32_t>(clusters_.size()); }
+  int main_light() const { return main_light_; }
+
+ private:
+  struct Rsm {
+    GBuffer gbuffer;
+    BounceLight light{};
+    uint64_t geometry_version = 0;
+    int face_size = 0, faces_x = 0, faces_y = 0, kind = 0;
+    glm::vec3 origin{0.0f};
+    float texel_factor = 0.0f;
+  };
+
+  void render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light);
+  void sample_first_bounce(const RenderContext& context, const BounceLight& light);
+  void cluster(const RenderContext& context);
+  void render_paraboloids(const RenderContext& context);
+  void propagate(const RenderContext& context);
+  void shade(const RenderContext& context, const GBuffer& camera);
+  void draw_debug(const RenderContext& context, const GBuffer& camera);
+
+  gl::Program sample_program_, paraboloid_program_, propagate_program_, shade_program_, debug_program_;
+  GeometryBlur blur_total_, blur_second_;
+  gl::Buffer params_buffer_, light_buffer_, points_, first_vpls_, clusters_buffer_, second_vpls_;
+  std::size_t points_capacity_ = 0, first_capacity_ = 0, clusters_capacity_ = 0, second_capacity_ = 0;
+  SsvpParams params_{};
+  Rsm rsm_;
+
+  gl::Texture paraboloid_position_, paraboloid_normal_, paraboloid_albedo_, paraboloid_depth_;
+  gl::Framebuffer paraboloid_target_;
+  int paraboloid_layers_ = 0, paraboloid_size_ = 0;
+
+  gl::Texture shaded_total_, shaded_second_, debug_;
+  gl::Framebuffer shade_target_, debug_target_;
+  GLuint debug_depth_ = 0;
+  int width_ = 0, height_ = 0;
+  GLuint total_ = 0, second_ = 0;
+
+  std::vector<glm::vec2> disk_points_;
+  std::vector<ssvp::Cluster> clusters_, previous_clusters_;
+  uint32_t first_count_ = 0, second_count_ = 0;
+  int main_light_ = -1;
+  float max_tess_level_ = 64.0f;
+};
+
+}  // namespace bounce

@@ -1,0 +1,43 @@
+// Screen-Space VPL Propagation: parameters, VPL and cluster buffers, and clustered visibility.
+// Mirror of the parameter block: native/src/passes/ssvp/ssvp_pass.h, SsvpParams.
+#include "ssvp/ssvp_shared.glsl"
+
+const float SSVP_PI = 3.14159265358979;
+const int RSM_ORTHOGRAPHIC = 1;
+
+layout(std140, binding = 5) uniform SsvpParams {
+  vec4 light_origin;  // xyz the RSM's eye (sun: direction towards it), w kind
+  int first_count, second_count, cluster_count, tiles_per_axis;
+  int rsm_face_size, rsm_faces_x, rsm_faces_y, paraboloid_size;
+  float rsm_texel_factor, texels_per_vpl, epsilon, length_scale;
+  float w1, w2, paraboloid_far, centre_offset;
+  int second_per_cluster, bounces, pattern_rotation, sample_index;
+} ssvp;
+
+struct Vpl {
+  vec4 position_cluster;  // xyz position, w the cluster whose paraboloid map shadows it
+  vec4 normal;            // xyz unit normal of its emitting side
+  vec4 flux;              // rgb flux (W), w 1 if the VPL exists (0: its sample hit no surface)
+};
+
+struct Cluster {
+  vec4 position_first;  // xyz the paraboloid map's centre, w the first member's index
+  vec4 normal_count;    // xyz the map's axis (the members' normal sum, normalised), w member count
+  vec4 tangent;
+  vec4 bitangent;
+};
+
+layout(std430, binding = 6) readonly buffer SsvpPoints { vec2 points[]; };
+layout(std430, binding = 7) buffer FirstVpls { Vpl first_vpls[]; };
+layout(std430, binding = 8) readonly buffer Clusters { Cluster clusters[]; };
+layout(std430, binding = 9) buffer SecondVpls { Vpl second_vpls[]; };
+
+// Position in a cluster's frame: z along its normal.
+vec3 cluster_local(int c, vec3 x) {
+  vec3 d = x - clusters[c].position_first.xyz;
+  return vec3(dot(d, clusters[c].tangent.xyz), dot(d, clusters[c].bitangent.xyz), dot(d, clusters[c].normal_count.xyz));
+}
+
+ivec2 paraboloid_texel(vec2 disk_point) {
+  return clamp(ivec2((disk_point * 0.5 + 0.5) * float(ssvp.paraboloid_size)), ivec2(0), ivec2(ssvp.paraboloid_size - 1));
+}

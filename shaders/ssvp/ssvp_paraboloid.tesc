@@ -1,0 +1,38 @@
+// Paraboloid map, tessellation control: straight edges bend under the paraboloid projection, so every edge is
+// split into pieces that each span at most MAX_EDGE_ANGLE as seen from the cluster; its level depends on the
+// edge alone, so neighbouring triangles agree and no crack opens.
+#include "ssvp/ssvp_common.glsl"
+
+layout(vertices = 3) out;
+
+layout(location = 10) uniform int u_cluster;
+layout(location = 11) uniform float u_max_tess_level;
+
+in vec3 v_world_position[];
+in vec3 v_world_normal[];
+in vec2 v_uv[];
+out vec3 c_world_position[];
+out vec3 c_world_normal[];
+out vec2 c_uv[];
+
+const float MAX_EDGE_ANGLE = 0.06;  // radians
+
+float edge_level(vec3 a, vec3 b) {
+  vec3 centre = clusters[u_cluster].position_first.xyz;
+  vec3 da = a - centre, db = b - centre;
+  float angle = atan(length(cross(da, db)), dot(da, db));
+  return clamp(ceil(angle / MAX_EDGE_ANGLE), 1.0, u_max_tess_level);
+}
+
+void main() {
+  c_world_position[gl_InvocationID] = v_world_position[gl_InvocationID];
+  c_world_normal[gl_InvocationID] = v_world_normal[gl_InvocationID];
+  c_uv[gl_InvocationID] = v_uv[gl_InvocationID];
+  if (gl_InvocationID == 0) {
+    // Outer level i is the edge opposite vertex i.
+    gl_TessLevelOuter[0] = edge_level(v_world_position[1], v_world_position[2]);
+    gl_TessLevelOuter[1] = edge_level(v_world_position[2], v_world_position[0]);
+    gl_TessLevelOuter[2] = edge_level(v_world_position[0], v_world_position[1]);
+    gl_TessLevelInner[0] = max(gl_TessLevelOuter[0], max(gl_TessLevelOuter[1], gl_TessLevelOuter[2]));
+  }
+}

@@ -1,0 +1,56 @@
+// Second-bounce VPLs (Sec. II-B): cluster c's VPLs sit at uniform points of the unit disk of its paraboloid
+// map (the map's image is that disk, so no sample is wasted outside it). The cluster acts as one light at its
+// centre whose intensity towards w is the sum of its members' cosine lobes, flux_i / pi max(n_i . w, 0). A
+// disk point p stands for the solid angle (pi / M) 4 / (1 + |p|^2)^2 (the map's Jacobian), so the VPL at the
+// surface seen there carries albedo x intensity x that solid angle, and the M VPLs together carry what the
+// surfaces in the hemisphere reflect of the cluster's light. Each is later shadowed by the map of the cluster
+// nearest it under Eq. 2.
+#include "ssvp/ssvp_common.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(binding = 13) uniform sampler2DArray paraboloid_position;
+layout(binding = 14) uniform sampler2DArray paraboloid_normal;
+layout(binding = 15) uniform sampler2DArray paraboloid_albedo;
+
+void main() {
+  uint g = gl_GlobalInvocationID.x;
+  if (g >= uint(ssvp.second_count)) return;
+  int c = int(g) / ssvp.second_per_cluster;
+  int m = int(g) % ssvp.second_per_cluster;
+  vec2 p = points[ssvp.first_count + m];
+  ivec3 texel = ivec3(paraboloid_texel(p), c);
+  vec4 albedo = texelFetch(paraboloid_albedo, texel, 0);
+  Vpl vpl;
+  vpl.position_cluster = vec4(0.0);
+  vpl.normal = vec4(0.0, 0.0, 1.0, 0.0);
+  vpl.flux = vec4(0.0);
+  if (albedo.a > 0.0) {
+    Cluster cluster = clusters[c];
+    vec3 local = ssvp_paraboloid_direction(p);
+    vec3 w = local.x * cluster.tangent.xyz + local.y * cluster.bitangent.xyz + local.z * cluster.normal_count.xyz;
+    vec3 intensity = vec3(0.0);
+    int first = int(cluster.position_first.w);
+    int count = int(cluster.normal_count.w);
+    for (int i = first; i < first + count; ++i)
+      intensity += first_vpls[i].flux.rgb * max(dot(first_vpls[i].normal.xyz, w), 0.0) / SSVP_PI;
+    float solid_angle = SSVP_PI / float(ssvp.second_per_cluster) * ssvp_paraboloid_solid_angle_density(p);
+    vec3 y = texelFetch(paraboloid_position, texel, 0).xyz;
+    vec3 n = texelFetch(paraboloid_normal, texel, 0).xyz;
+    int nearest = c;
+    float nearest_distance = 1e30;
+    for (int k = 0; k < ssvp.cluster_count; ++k) {
+      float d = ssvp_cluster_distance(y, n, clusters[k].position_first.xyz, clusters[k].normal_count.xyz, ssvp.w1,
+                                      ssvp.w2, ssvp.length_scale);
+      if (d < nearest_distance) {
+        nearest_distance = d;
+        nearest = k;
+      }
+    }
+    vpl.position_cluster = vec4(y, float(nearest));
+    vpl.normal = vec4(n, 0.0);
+    vpl.flux = vec4(albedo.rgb * intensity * solid_angle, 1.0);
+    if (any(isnan(vpl.flux)) || any(isinf(vpl.flux))) vpl.flux = vec4(0.0);
+  }
+  second_vpls[g] = vpl;
+}

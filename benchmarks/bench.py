@@ -2,7 +2,7 @@
 OpenImageIO, matplotlib); Blender renders through scripts/blender (set BLENDER for another Blender).
 
 Each suite renders its scenes through Blender + Bounce over a parameter sweep, records per-stage GPU times,
-render wall time and (where the suite measures accuracy) errors against cached Cycles one-bounce references,
+render wall time and (where the suite measures accuracy) errors against cached Cycles references (with the suite method's number of diffuse bounces),
 and writes into --out (default build/benchmark/<suite>/): records.csv (one row per render), records.jsonl,
 summary.csv (medians per configuration), <suite>.md (the table printed at the end), <suite>.png, renders/
 (EXRs) and logs/.
@@ -138,15 +138,24 @@ def jobs_for(scene, width, height, configs, args, suite, renders, errors):
         exr = renders / f"{scene.name}-{width}x{height}-cycles-{samples:04d}.exr"
         meta = {"role": "measure", "scene": scene.name, "label": f"{scene.name} {width}x{height} Cycles {samples}",
                 "method": "CYCLES", "params": {"samples": samples}}
-        jobs.append(runner.cycles_job(width, height, samples, runner.CYCLES_SEED, args.cycles_device, exr, meta))
+        jobs.append(runner.cycles_job(width, height, samples, runner.CYCLES_SEED, args.cycles_device, exr, meta,
+                                      bounces=suite.reference_bounces))
     return jobs
 
 
 class Errors:
-    """Loads each reference once and measures renders against it (and against the CPU model, if wanted)."""
+    """Loads each reference once and measures renders against it (and against the CPU model, if wanted).
+    `references`: the Cycles references with 1 .. k bounces; renders are measured against the k-bounce one,
+    and with k = 2 each bounce against its own part."""
 
     def __init__(self, references, cpu_references):
         self.references, self.cpu_references, self.loaded = references, cpu_references, {}
+
+    def reference(self, scene, width, height):
+        last = self._load(self.references[-1].path(scene, width, height))
+        if len(self.references) == 1:
+            return last
+        return images.with_bounces(last, self._load(self.references[0].path(scene, width, height)))
 
     def _load(self, path):
         if path not in self.loaded:
@@ -157,7 +166,7 @@ class Errors:
         if not record.get("exr"):
             return {}
         image = images.load(record["exr"])
-        errors = images.compare(image, self._load(self.references.path(scene, record["width"], record["height"])), "")
+        errors = images.compare(image, self.reference(scene, record["width"], record["height"]), "")
         if self.cpu_references is not None:
             model = self._load(self.cpu_references.path(scene, record["width"], record["height"]))
             reference = images.against_cpu_model(image, model)
@@ -180,18 +189,19 @@ def main(argv=None):
     scenes = plan_scenes(args, suite, cache)
     configs, swept = sweep(args, suite)
     errors = suite.errors and not args.no_errors
-    references = runner.References(args.references or runner.BUILD / "benchmark" / "references", probe["blender"],
-                                   args.reference_samples or (32 if args.quick else 1024), args.cycles_device)
+    references = [runner.References(args.references or runner.BUILD / "benchmark" / "references", probe["blender"],
+                                    args.reference_samples or (32 if args.quick else 1024), args.cycles_device,
+                                    bounces) for bounces in range(1, suite.reference_bounces + 1)]
     use_cpu_model = errors and not args.no_cpu_reference and "FLC" in {c["method"] for c in configs}
     cpu_references = runner.CpuReferences(
-        references.folder, args.cpu_reference_points or (4096 if args.quick else 65536)) if use_cpu_model else None
+        references[0].folder, args.cpu_reference_points or (4096 if args.quick else 65536)) if use_cpu_model else None
     measure = Errors(references, cpu_references)
 
     records = []
     for index, (scene, width, height) in enumerate(scenes, 1):
         jobs = jobs_for(scene, width, height, configs, args, suite, out / "renders", errors)
         if errors:
-            jobs = references.missing_jobs(scene, [(width, height)]) + jobs
+            jobs = [job for r in references for job in r.missing_jobs(scene, [(width, height)])] + jobs
         if cpu_references is not None:
             jobs = cpu_references.missing_jobs(scene, [(width, height)]) + jobs
         renders = sum(job.get("repeats", 1) for job in jobs)

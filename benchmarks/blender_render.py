@@ -10,7 +10,7 @@ JOBS: {"records": path, "info": optional path (receives Blender's version and th
        "warm_up": true (default) renders once, unrecorded, before the first job of each engine and method,
        "jobs": [{"engine": "BOUNCE" | "CYCLES" | "CPU_REFERENCE", "width", "height", "repeats",
                  "bounce": {setting: value},            # scene.bounce.<setting>; the rest stays at defaults
-                 "cycles": {"samples", "seed", "device"},  # the oracle of DESIGN.md, exactly one diffuse bounce
+                 "cycles": {"samples", "seed", "device", "bounces"},  # the oracle of DESIGN.md: exactly `bounces`
                  "exr": optional path (multilayer EXR of the first repeat), "meta": {...copied into records},
                  "cpu_reference": {"scene": path, options of cpu_reference_export.export}}]}
 A CPU_REFERENCE job renders nothing: it writes the scene for bounce_reference_render (the CPU model reference).
@@ -82,7 +82,8 @@ def configure(scene, job):
     bl_common.linear_output(scene)
     if job["engine"] == "CYCLES":
         cycles = job.get("cycles", {})
-        oracle.cycles_oracle(scene, cycles.get("samples", 1024), bounces=1, seed=cycles.get("seed", 0))
+        oracle.cycles_oracle(scene, cycles.get("samples", 1024), bounces=cycles.get("bounces", 1),
+                             seed=cycles.get("seed", 0))
         if cycles.get("device") == "GPU":
             scene.cycles.device = use_cycles_gpu()
         for layer in scene.view_layers:

@@ -1,8 +1,11 @@
 """EXR reading and the error metrics of scripts/benchmark (host Python: numpy, OpenImageIO).
 
-What is compared (DESIGN.md, "Cycles as an oracle", one diffuse bounce):
+What is compared (DESIGN.md, "Cycles as an oracle", with as many diffuse bounces as the method simulates):
   combined: Bounce's Combined  vs  Cycles' DiffCol * (DiffDir + DiffInd) + Emit
   indirect: Bounce's Indirect  vs  Cycles' DiffCol * DiffInd       (when Bounce writes an Indirect pass)
+and, for two-bounce methods, each bounce alone (with_bounces: the one- and two-bounce references together):
+  first:    Indirect - Second Bounce  vs  DiffCol * DiffInd(k=1)
+  second:   Second Bounce             vs  DiffCol * (DiffInd(k=2) - DiffInd(k=1))
 and against the CPU model reference (runner.CpuReferences), columns cpuref_*:
   indirect: the render's Indirect  vs  its own albedo (Albedo, or Cycles' DiffCol) * the model's white-receiver
             radiance, so texture detail is the render's and only the light differs
@@ -63,6 +66,9 @@ def components(passes):
             out["indirect"] = _rgb(passes, "Indirect")
         if "Albedo" in passes:
             out["albedo"] = _rgb(passes, "Albedo")
+        if "Second Bounce" in passes and "Indirect" in passes:
+            out["second"] = _rgb(passes, "Second Bounce")
+            out["first"] = out["indirect"] - out["second"]
     combined = passes.get("Combined")
     if combined is not None and combined.shape[2] >= 4:
         out["alpha"] = combined[:, :, 3]
@@ -79,6 +85,14 @@ def against_cpu_model(image, model):
     if "albedo" not in image:
         return None
     return {"indirect": model["combined"] * image["albedo"], "alpha": model["alpha"]}
+
+
+def with_bounces(two_bounce, one_bounce):
+    """A two-bounce Cycles reference with each bounce apart ('first', 'second'), from the one-bounce render."""
+    out = dict(two_bounce)
+    out["first"] = one_bounce["indirect"]
+    out["second"] = two_bounce["indirect"] - one_bounce["indirect"]
+    return out
 
 
 def relative_errors(image, reference, mask):
@@ -102,7 +116,7 @@ def compare(image, reference, prefix):
     alpha = reference.get("alpha", image.get("alpha"))
     mask = alpha > 0.5 if alpha is not None else np.ones(image["combined"].shape[:2], dtype=bool)
     errors = {}
-    for part in ("combined", "indirect"):
+    for part in ("combined", "indirect", "first", "second"):
         if part in image and part in reference:
             rmse, mae = relative_errors(image[part], reference[part], mask)
             errors[f"{prefix}{part}_rel_rmse"] = rmse

@@ -24,7 +24,7 @@ DRAGON_SCRIPT = HERE / "dragon_scene.py"
 REFERENCE_SEED = 7919
 CYCLES_SEED = 0
 # Bumped when the reference recipe changes, so cached references are not reused across recipes.
-REFERENCE_RECIPE = "oracle-k1-v1"
+REFERENCE_RECIPE = "oracle-k{bounces}-v1"
 CPU_REFERENCE_RECIPE = "cpu-model-v1"
 CPU_REFERENCE_TOOL = BUILD / "bounce_reference_render"
 
@@ -142,22 +142,24 @@ def _uncached(resolutions, path_of, what):
 
 
 class References:
-    """Cycles one-bounce references, cached as EXRs keyed by scene, resolution, Blender version, samples."""
+    """Cycles references with exactly `bounces` diffuse bounces, cached as EXRs keyed by scene, resolution, Blender
+    version, samples and bounces."""
 
-    def __init__(self, folder, blender_version, samples, device):
+    def __init__(self, folder, blender_version, samples, device, bounces=1):
         self.folder, self.blender_version, self.samples, self.device = Path(folder), blender_version, samples, device
+        self.bounces = bounces
 
     def path(self, scene, width, height):
         return self.folder / (f"{scene.key}-{width}x{height}-blender{self.blender_version}-"
-                              f"cycles{self.samples}-{REFERENCE_RECIPE}.exr")
+                              f"cycles{self.samples}-{REFERENCE_RECIPE.format(bounces=self.bounces)}.exr")
 
     def missing_jobs(self, scene, resolutions):
         """Jobs that render the references `scene` lacks at `resolutions` (so they join the scene's run)."""
         jobs = []
         for width, height, path in _uncached(resolutions, lambda w, h: self.path(scene, w, h), "reference"):
-            log(f"reference {path.name}: rendering with Cycles, {self.samples} samples")
+            log(f"reference {path.name}: rendering with Cycles, {self.samples} samples, {self.bounces} bounces")
             jobs.append(cycles_job(width, height, self.samples, REFERENCE_SEED, self.device, path,
-                                   {"label": f"reference {width}x{height}", "role": "reference"}))
+                                   {"label": f"reference {width}x{height}", "role": "reference"}, bounces=self.bounces))
         return jobs
 
 
@@ -219,9 +221,9 @@ class CpuReferences:
         self.pending = []
 
 
-def cycles_job(width, height, samples, seed, device, exr, meta, repeats=1):
+def cycles_job(width, height, samples, seed, device, exr, meta, repeats=1, bounces=1):
     return {"engine": "CYCLES", "width": width, "height": height, "repeats": repeats, "exr": str(exr) if exr else None,
-            "cycles": {"samples": samples, "seed": seed, "device": device}, "meta": meta}
+            "cycles": {"samples": samples, "seed": seed, "device": device, "bounces": bounces}, "meta": meta}
 
 
 def bounce_job(width, height, settings, repeats, exr, meta):

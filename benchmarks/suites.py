@@ -4,11 +4,12 @@ and writes into the output folder; it returns the Markdown it wants printed.
 """
 from dataclasses import dataclass, field
 
+import images
 import report
 from images import METRIC_TEXT
 
 ERROR_COLUMNS = ("combined_rel_rmse", "combined_rel_mae", "indirect_rel_rmse", "indirect_rel_mae",
-                 "cpuref_indirect_rel_rmse", "cpuref_indirect_rel_mae")
+                 "first_rel_rmse", "second_rel_rmse", "cpuref_indirect_rel_rmse", "cpuref_indirect_rel_mae")
 
 
 @dataclass
@@ -25,6 +26,7 @@ class Suite:
     cycles_samples: tuple = ()                      # Cycles renders measured against the reference too
     quick_cycles_samples: tuple = ()
     direct_baseline: bool = False                   # also render method DIRECT, for frame / direct-only ratios
+    reference_bounces: int = 1                      # diffuse bounces of the Cycles reference
     report: object = None
 
 
@@ -45,13 +47,19 @@ HEADERS = {"sync_ms": "sync ms", "combined_rel_rmse": "combined rel. RMSE", "com
            "cpuref_indirect_rel_rmse": "indirect rel. RMSE vs CPU model",
            "cpuref_indirect_rel_mae": "indirect rel. MAE vs CPU model", "wall_seconds": "wall s",
            "render_seconds": "render s",
-           "frame ms/sample": "frame GPU ms/sample", "flc_vpls_per_pixel": "N_avg", "flc_tiling": "tiling"}
+           "frame ms/sample": "frame GPU ms/sample", "flc_vpls_per_pixel": "N_avg", "flc_tiling": "tiling",
+           "first_rel_rmse": "1st bounce rel. RMSE", "second_rel_rmse": "2nd bounce rel. RMSE",
+           "ssvp_clusters": "clusters", "ssvp_vpls": "1st-bounce VPLs", "ssvp_second_vpls": "2nd-bounce VPLs"}
 
 
-def _errors_note(rows):
+def _errors_note(rows, bounces=1):
     if not any(any(c in r for c in ERROR_COLUMNS) for r in rows):
         return ""
-    note = f"\n\nErrors against the Cycles one-bounce reference: {METRIC_TEXT}."
+    kind = "one-bounce" if bounces == 1 else f"{bounces}-bounce"
+    note = f"\n\nErrors against the Cycles {kind} reference: {METRIC_TEXT}."
+    if bounces == 2:
+        note += (" The 1st and 2nd bounce columns compare Indirect - Second Bounce with Cycles' DiffInd at one "
+                 "bounce, and Second Bounce with DiffInd(2) - DiffInd(1), both times DiffCol.")
     if any("cpuref_indirect_rel_rmse" in r for r in rows):
         note += (" The 'vs CPU model' columns compare the Indirect pass with what FLC converges to (native/reference,"
                  " continuous mode: unshadowed VPL-to-receiver transfer, ray-traced irradiance at the VPLs) times the"
@@ -75,16 +83,18 @@ def sweep_report(ctx, records, stages):
             xs, fields = series.setdefault(label, ([], {}))
             xs.append(row[x])
             for f in ("frame ms/sample", "wall_seconds", "combined_rel_rmse", "indirect_rel_rmse",
-                      "cpuref_indirect_rel_rmse"):
+                      "second_rel_rmse", "cpuref_indirect_rel_rmse"):
                 fields.setdefault(f, []).append(row.get(f, float("nan")))
         panels = [("frame GPU time per sample (ms)", "frame ms/sample"), ("render wall time (s)", "wall_seconds")]
         if any("combined_rel_rmse" in r for r in rows):
             panels.append(("relative RMSE (combined)", "combined_rel_rmse"))
+        if any("second_rel_rmse" in r for r in rows):
+            panels.append(("relative RMSE (indirect)", "indirect_rel_rmse"))
         if any("cpuref_indirect_rel_rmse" in r for r in rows):
             panels.append(("indirect relative RMSE vs CPU model", "cpuref_indirect_rel_rmse"))
         report.plot_lines(series, ctx.out / f"{ctx.suite.name}.png", ctx.title, HEADERS.get(x, x), panels,
                           logx=x == "flc_vpls_per_pixel")
-    return table + _errors_note(rows)
+    return table + _errors_note(rows, ctx.suite.reference_bounces)
 
 
 def stages_report(ctx, records, stages):
@@ -101,7 +111,7 @@ def stages_report(ctx, records, stages):
     columns = ["scene", "method", "width", "height", *keys[4:], "samples", "triangles", "sync s/Mtri",
                *_time_columns(rows, stages), "frame / direct-only frame", *ERROR_COLUMNS]
     report.plot_stage_bars(rows, stages, ctx.out / f"{ctx.suite.name}.png", ctx.title)
-    return report.markdown(rows, columns, HEADERS) + _errors_note(rows)
+    return report.markdown(rows, columns, HEADERS) + _errors_note(rows, ctx.suite.reference_bounces)
 
 
 def triangles_report(ctx, records, stages):
@@ -175,7 +185,76 @@ def error_time_report(ctx, records, stages):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
     report.save(fig, ctx.out / f"{ctx.suite.name}.png", ctx.title)
-    return "\n".join(lines) + _errors_note(rows)
+    return "\n".join(lines) + _errors_note(rows, ctx.suite.reference_bounces)
+
+
+# Aranha et al. 2020, Sec. III-B: RMSE of 4, 8 and 16 clusters against 32 (Sponza, 1080p, after their
+# tone mapping); Table I: Sponza at 1920x1080, 256 + 256 VPLs, GTX 1060, ms.
+PAPER_RMSE_AGAINST_32 = {4: 0.1259, 8: 0.1020, 16: 0.0806}
+PAPER_TABLE_I = {4: (1.03, 0.26, 1.16, 10.44, 12.89), 8: (1.03, 0.29, 2.50, 10.90, 14.72),
+                 16: (1.03, 0.30, 7.90, 11.08, 20.31), 32: (1.03, 0.30, 56.29, 11.13, 68.75)}
+
+
+def clusters_report(ctx, records, stages):
+    """The cluster sweep, plus each cluster count's Combined against the largest count's (the paper's measure)."""
+    text = sweep_report(ctx, records, stages)
+    lines = ["", "", "Combined against the largest cluster count's image, the paper's measure (its RMSE is of tone-"
+             "mapped 8-bit images, ours the relative RMSE of linear Combined, so compare the trend, not the digits):",
+             ""]
+    by_scene = {}
+    for r in records:
+        if r.get("role") == "measure" and r.get("exr") and r.get("method") == "SSVP":
+            by_scene.setdefault(r["scene"], {}).setdefault(r["params"]["ssvp_clusters"], r["exr"])
+    table = []
+    for scene, exrs in sorted(by_scene.items()):
+        most = max(exrs)
+        reference = images.load(exrs[most])
+        for clusters in sorted(exrs):
+            if clusters == most:
+                continue
+            errors = images.compare(images.load(exrs[clusters]), reference, "")
+            table.append({"scene": scene, "clusters": clusters, "against": most,
+                          "combined rel. RMSE": errors["combined_rel_rmse"],
+                          "indirect rel. RMSE": errors.get("indirect_rel_rmse", float("nan")),
+                          "paper RMSE": PAPER_RMSE_AGAINST_32.get(clusters, float("nan")) if most == 32 else None})
+    lines.append(report.markdown(table, ["scene", "clusters", "against", "combined rel. RMSE", "indirect rel. RMSE",
+                                         "paper RMSE"]))
+    return text + "\n".join(lines)
+
+
+def table1_report(ctx, records, stages):
+    """The paper's Table I: G-buffer, misc (RSM, sampling, clustering, propagation), paraboloids, shading (with
+    denoising), total, per cluster count, beside the paper's GTX 1060 figures."""
+    rows = ctx.summarise(records, ["scene", "method", "width", "height", "ssvp_clusters"])
+    parts = {"G-buffer": ["G-buffer"], "Misc": ["Shadows", "SSVP RSM", "SSVP sampling + clustering"],
+             "Paraboloids": ["SSVP paraboloids"], "Shading": ["SSVP shading", "SSVP denoise"]}
+    table = []
+    for row in sorted(rows, key=lambda r: r.get("ssvp_clusters", 0)):
+        out = {"clusters": row.get("ssvp_clusters"), "resolution": f"{row['width']}x{row['height']}"}
+        for part, names in parts.items():
+            out[part] = sum(row.get(f"{n} ms/sample", 0.0) for n in names)
+        out["Total"] = row.get("frame ms/sample")
+        paper = PAPER_TABLE_I.get(out["clusters"])
+        if paper:
+            out["paper Total (GTX 1060)"] = paper[4]
+            out["paper Paraboloids"] = paper[2]
+        table.append(out)
+    columns = ["clusters", "resolution", *parts, "Total", "paper Paraboloids", "paper Total (GTX 1060)"]
+    plt = report.pyplot()
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    bottom = [0.0] * len(table)
+    labels = [str(t["clusters"]) for t in table]
+    for part in parts:
+        values = [t[part] for t in table]
+        ax.bar(labels, values, bottom=bottom, label=part)
+        bottom = [b + v for b, v in zip(bottom, values)]
+    ax.set_xlabel("clusters")
+    ax.set_ylabel("GPU ms per frame")
+    ax.legend(fontsize=8)
+    report.save(fig, ctx.out / f"{ctx.suite.name}.png", ctx.title)
+    return (report.markdown(table, columns) + "\n\nMisc holds the shadow maps, the RSM (rendered once per render: the "
+            "light and the geometry are still), first-bounce sampling, the k-means readback and the second-bounce "
+            "propagation; Shading holds the interleaved shading of both bounces, the debug view and the blur.")
 
 
 _DRAGONS = (1, 2, 5, 10, 20, 50, 100)
@@ -206,4 +285,23 @@ SUITES = {s.name: s for s in (
           sets={"samples": [1, 4, 16, 64]}, quick_sets={"samples": [1, 4]},
           cycles_samples=tuple(2 ** i for i in range(9)), quick_cycles_samples=(1, 2, 4, 8),
           report=error_time_report),
+    Suite("ssvp-clusters", "SSVP error and frame time against the cluster count (Eq. 2 k-means), against Cycles "
+          "with two diffuse bounces, and against the 32-cluster image as in the paper", "SSVP",
+          [("cornell", 512, 512), ("sponza", 640, 360)], [("cornell", 64, 64), ("sponza", 96, 54)],
+          sets={"samples": [1], "ssvp_clusters": [4, 8, 16, 32]}, quick_sets={"ssvp_clusters": [4, 32]},
+          reference_bounces=2, report=clusters_report),
+    Suite("ssvp-vpls", "SSVP error and frame time against the first- and second-bounce VPL counts", "SSVP",
+          [("cornell", 512, 512)], [("cornell", 64, 64)],
+          sets={"samples": [1], "ssvp_second_vpls": [64, 256, 1024], "ssvp_vpls": [64, 128, 256, 512, 1024]},
+          quick_sets={"ssvp_second_vpls": [256], "ssvp_vpls": [64, 256]}, reference_bounces=2,
+          report=sweep_report),
+    Suite("ssvp-bounces", "SSVP with one bounce against two, one frame and 16 samples, against Cycles with two "
+          "diffuse bounces; each bounce against its own part of Cycles", "SSVP",
+          [("cornell", 512, 512), ("sponza", 640, 360)], [("cornell", 64, 64), ("sponza", 96, 54)],
+          sets={"samples": [1, 16], "bounces": [1, 2]}, quick_sets={"samples": [1]}, reference_bounces=2,
+          report=sweep_report),
+    Suite("ssvp-stages", "Table I: SSVP's per-stage GPU time on Sponza at 1920x1080 with 256 + 256 VPLs, 4 to 32 "
+          "clusters", "SSVP", [("sponza", 1920, 1080)], [("sponza", 192, 108)],
+          sets={"samples": [1], "ssvp_vpls": [256], "ssvp_second_vpls": [256], "ssvp_clusters": [4, 8, 16, 32]},
+          quick_sets={"ssvp_clusters": [4, 8]}, errors=False, report=table1_report),
 )}

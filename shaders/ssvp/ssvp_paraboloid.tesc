@@ -1,6 +1,7 @@
-// Paraboloid map, tessellation control: straight edges bend under the paraboloid projection, so every edge is
-// split into pieces that each span at most MAX_EDGE_ANGLE as seen from the cluster; its level depends on the
-// edge alone, so neighbouring triangles agree and no crack opens.
+// Paraboloid map, tessellation control: straight edges should bend under the paraboloid projection, so an edge
+// spanning a wide angle as seen from the cluster is split into pieces of at most MAX_EDGE_ANGLE. Its level depends
+// on the edge alone, so neighbouring triangles agree and no crack opens. The fragment stage makes depths exact
+// inside each piece, so pieces may be coarse; triangles wholly behind the hemisphere are culled here.
 #include "ssvp/ssvp_common.glsl"
 
 layout(vertices = 3) out;
@@ -15,7 +16,7 @@ out vec3 c_world_position[];
 out vec3 c_world_normal[];
 out vec2 c_uv[];
 
-const float MAX_EDGE_ANGLE = 0.06;  // radians
+const float MAX_EDGE_ANGLE = 0.25;  // radians: the chord of such an arc of the rim strays 0.8 % of its radius
 
 float edge_level(vec3 a, vec3 b) {
   vec3 centre = clusters[u_cluster].position_first.xyz;
@@ -29,10 +30,13 @@ void main() {
   c_world_normal[gl_InvocationID] = v_world_normal[gl_InvocationID];
   c_uv[gl_InvocationID] = v_uv[gl_InvocationID];
   if (gl_InvocationID == 0) {
-    // Outer level i is the edge opposite vertex i.
-    gl_TessLevelOuter[0] = edge_level(v_world_position[1], v_world_position[2]);
-    gl_TessLevelOuter[1] = edge_level(v_world_position[2], v_world_position[0]);
-    gl_TessLevelOuter[2] = edge_level(v_world_position[0], v_world_position[1]);
+    bool behind = cluster_local(u_cluster, v_world_position[0]).z < 0.0 &&
+                  cluster_local(u_cluster, v_world_position[1]).z < 0.0 &&
+                  cluster_local(u_cluster, v_world_position[2]).z < 0.0;
+    // Outer level i is the edge opposite vertex i; level 0 discards the patch.
+    gl_TessLevelOuter[0] = behind ? 0.0 : edge_level(v_world_position[1], v_world_position[2]);
+    gl_TessLevelOuter[1] = behind ? 0.0 : edge_level(v_world_position[2], v_world_position[0]);
+    gl_TessLevelOuter[2] = behind ? 0.0 : edge_level(v_world_position[0], v_world_position[1]);
     gl_TessLevelInner[0] = max(gl_TessLevelOuter[0], max(gl_TessLevelOuter[1], gl_TessLevelOuter[2]));
   }
 }

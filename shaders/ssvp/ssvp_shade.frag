@@ -14,20 +14,24 @@ layout(location = 0) out vec4 out_indirect;
 layout(location = 1) out vec4 out_second;
 
 // 1 if x is seen from cluster c's centre. Receivers behind the map's hemisphere get 1: the map knows nothing of
-// them and the VPL's own cosine decides. The receiver is pushed off its surface by a texel's footprint at its
-// distance, and a texel's footprint of depth difference still counts as seen, against self-shadowing.
+// them and the VPL's own cosine decides. Against self-shadowing, the receiver is pushed off its surface by a
+// texel's footprint at its distance, and depths up to a footprint x (1 + tan of the incidence) beyond the stored
+// one still count as seen: a surface seen at a grazing angle spans that much depth within one texel.
 float cluster_visibility(int c, vec3 x, vec3 n) {
   vec3 local = cluster_local(c, x);
   float r = length(local);
   if (local.z <= 0.0 || r == 0.0) return 1.0;
   vec2 p = ssvp_paraboloid_point(local / r);
   float footprint = r * 4.0 / (float(ssvp.paraboloid_size) * (1.0 + dot(p, p)));
+  vec3 from_centre = x - clusters[c].position_first.xyz;
+  float cos_incidence = max(abs(dot(n, from_centre)) / r, 0.05);
+  float tolerance = footprint * (1.0 + sqrt(1.0 - cos_incidence * cos_incidence) / cos_incidence);
   local = cluster_local(c, x + n * footprint);
   r = length(local);
   if (local.z <= 0.0) return 1.0;
   vec4 seen = texelFetch(paraboloid_position, ivec3(paraboloid_texel(ssvp_paraboloid_point(local / r)), c), 0);
   if (seen.w == 0.0) return 1.0;  // nothing in that direction
-  return r <= seen.w + footprint ? 1.0 : 0.0;
+  return r <= seen.w + tolerance ? 1.0 : 0.0;
 }
 
 vec3 vpl_light(Vpl vpl, vec3 x, vec3 n) {

@@ -62,10 +62,11 @@ def check_finite(path):
     return channels
 
 
-# Forward Light Cuts gets every case that renders an image, but the largest (its splatting on llvmpipe would
+# The indirect methods get every case that renders an image, but the largest (FLC's splatting on llvmpipe would
 # take minutes at 8192^2; tiles of any size are covered by the native tests).
 METHOD_CASES = [(case, "DIRECT") for case in CASES] + [
-    (case, "FLC") for case, (_status, _pattern, image) in CASES.items() if image and case != "resolution_large"]
+    (case, method) for method in ("FLC", "SSVP")
+    for case, (_status, _pattern, image) in CASES.items() if image and case != "resolution_large"]
 
 
 @pytest.mark.parametrize("case,method", METHOD_CASES)

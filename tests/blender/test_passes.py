@@ -1,5 +1,5 @@
 """(e) Render passes of an F12-equivalent render (bpy.ops.render.render(write_still=True), OPEN_EXR_MULTILAYER):
-Combined, Direct, Indirect, Emission, Albedo, Normal, Depth, VPL Levels, with sane values."""
+Combined, Direct, Indirect, Emission, Albedo, Normal, Depth, VPLs, Second Bounce, with sane values."""
 import json
 
 import numpy as np
@@ -8,7 +8,7 @@ import pytest
 from conftest import layer_pass, read_exr, record
 
 PASSES = {"Combined": "RGBA", "Direct": "RGB", "Indirect": "RGB", "Emission": "RGB", "Albedo": "RGB", "Normal": "XYZ",
-          "Depth": "Z", "VPL Levels": "RGB"}
+          "Depth": "Z", "VPLs": "RGB", "Second Bounce": "RGB"}
 
 # OBJ Kd of the Cornell walls and the normals (Blender axes) of their visible sides.
 WALLS = {

@@ -30,11 +30,12 @@ def read_png(path):
     return pixels.reshape(image.spec().height, image.spec().width, -1)
 
 
-@pytest.fixture(scope="module")
-def viewport_run(blender, out_root):
+@pytest.fixture(scope="module", params=["FLC", "SSVP"])
+def viewport_run(blender, out_root, request):
     if shutil.which("xvfb-run") is None and not CHROOT:
         pytest.skip("xvfb-run is not installed (package xvfb)")
-    out = out_root / "viewport"
+    method = request.param
+    out = out_root / f"viewport-{method.lower()}"
     shutil.rmtree(out, ignore_errors=True)
     out.mkdir(parents=True)
     blend = out / "demo.blend"
@@ -42,6 +43,7 @@ def viewport_run(blender, out_root):
                  "import bpy, sys; bpy.ops.bounce.demo_scene(resolution=128); "
                  "bpy.context.scene.bounce.viewport_samples = 8; "
                  "bpy.context.scene.bounce.viewport_flc_tiling = 1; "
+                 f"bpy.context.scene.bounce.method = {method!r}; "
                  f"bpy.ops.wm.save_as_mainfile(filepath={str(blend)!r})"], name="viewport-scene")
     # Blender's screenshot operator writes black under Xvfb from 4.3 on (docs/chroots.md): capture with xwd.
     capture = "screenshot" if blender.version < (4, 0, 0) else "xwd"
@@ -77,8 +79,8 @@ def test_viewport_draws_the_engine_frame(viewport_run):
     # The 3D view still draws small toggles for its hidden side regions along the edges: leave 16 px out.
     margin = 16
     difference = np.abs(shown - expected)[margin:-margin, margin:-margin] * 255
-    record("viewport.mean_abs_difference_8bit", float(difference.mean()))
-    record("viewport.p99_abs_difference_8bit", float(np.percentile(difference, 99)))
+    record(f"viewport.{out.name}.mean_abs_difference_8bit", float(difference.mean()))
+    record(f"viewport.{out.name}.p99_abs_difference_8bit", float(np.percentile(difference, 99)))
     assert float(np.percentile(expected, 90)) > 0.2, "the engine frame is (nearly) black"
     assert difference.mean() < 1.5 and np.percentile(difference, 99) < 4.0
 
@@ -91,12 +93,12 @@ def test_moving_a_light_or_an_object_does_not_reexport_geometry(viewport_run):
     assert after_light["light_syncs"] > first["light_syncs"]
     assert after_object["meshes_exported"] == first["meshes_exported"]
     assert after_object["instance_syncs"] > after_light["instance_syncs"]
-    record("viewport.sync_seconds_after_move", after_object["last_sync_seconds"])
+    record(f"viewport.{_out.name}.sync_seconds_after_move", after_object["last_sync_seconds"])
 
 
 def test_ui_stays_responsive_during_a_long_render(viewport_run):
     _out, result, _capture = viewport_run
-    record("viewport.ui_max_timer_gap_seconds", result["ui_max_gap_seconds"])
+    record(f"viewport.{_out.name}.ui_max_timer_gap_seconds", result["ui_max_gap_seconds"])
     assert result["ui_ticks"] >= 10
     assert result["ui_max_gap_seconds"] < 0.5
 

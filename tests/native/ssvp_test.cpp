@@ -354,6 +354,56 @@ TEST_F(Ssvp, SphereFurnaceConvergesToBothBounces) {
   EXPECT_NEAR(mean_red(second), 0.8 * 4.053, 0.02 * 0.8 * 4.053);
 }
 
+// Clustered visibility against a closed form: a 1-degree spot lights a spot of the floor (albedo 0.5) at the
+// origin, so every VPL sits there; they light a wall at x = 1 facing them, half of it (y < 0) behind a low
+// panel at x = 0.5. An orthographic camera between panel and wall sees the wall only.
+TEST_F(Ssvp, ClusteredVisibilityAgainstTheClosedForm) {
+  const float rho = 0.5f, half_angle = glm::radians(1.0f), intensity = 1e4f;
+  add_mesh(1, {-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0}, {0, 1, 2, 0, 2, 3});                        // floor
+  add_mesh(2, {1, -1, 0, 1, 1, 0, 1, 1, 2, 1, -1, 2}, {0, 1, 2, 0, 2, 3});                          // wall
+  add_mesh(3, {0.5f, -1.5f, 0, 0.5f, 0, 0, 0.5f, 0, 0.6f, 0.5f, -1.5f, 0.6f}, {0, 1, 2, 0, 2, 3});  // panel
+  set_instances({1, 2, 3}, {glm::mat4(1.0f), glm::mat4(1.0f), glm::mat4(1.0f)});
+  set_albedo(rho);
+  BounceLight spot = make_light(BOUNCE_LIGHT_SPOT, glm::vec3(0, 0, 1), glm::vec3(intensity));
+  spot.spot_half_angle = half_angle;
+  set_lights({spot});
+  const glm::mat4 view = glm::lookAt(glm::vec3(0.75f, 0, 1), glm::vec3(2, 0, 1), glm::vec3(0, 0, 1));
+  set_camera(view, glm::ortho(-1.0f, 1.0f, -1.0f, 1.0f, 0.01f, 1.0f), 32, 32);  // y in [-1, 1], z in [0, 2]
+  settings_.samples = 8;
+  settings_.ssvp_vpls = 1024;
+  settings_.ssvp_clusters = 1;
+  settings_.ssvp_tiling = 0;
+  settings_.ssvp_blur_radius = 0;
+  settings_.bounces = 1;
+  const Image indirect = render(BOUNCE_AOV_INDIRECT);
+  ASSERT_TRUE(all_finite(indirect));
+  const double flux = rho * intensity * 2.0 * kPi * (1.0 - std::cos(half_angle));  // reflected by the floor spot
+  double lit_error = 0.0, shadowed = 0.0, lit_mean = 0.0;
+  int lit_count = 0, shadowed_count = 0;
+  for (int py = 0; py < indirect.height; ++py)
+    for (int px = 0; px < indirect.width; ++px) {
+      // The camera looks along +x with up +z: image x runs along -y.
+      const glm::vec3 w(1.0f, 1.0f - (px + 0.5f) / 16.0f, (py + 0.5f) / 16.0f);
+      const float d = glm::length(w);
+      const double expected = rho / kPi * flux / kPi * (w.z / d) * (w.x / d) / (d * d);
+      const float value = indirect.at(px, py)[0];
+      if (getenv("SSVP_DUMP")) std::printf("%s%4.2f", px ? " " : "\n", value / expected);
+      if (w.y > 0.1f && w.z > 0.2f) {
+        lit_error += std::abs(value - expected) / expected;
+        lit_mean += value / expected;
+        ++lit_count;
+      } else if (w.y < -0.1f && w.z < 1.0f && w.z > 0.1f) {
+        shadowed += value / expected;
+        ++shadowed_count;
+      }
+    }
+  std::printf("lit: mean ratio %.4f, mean |error| %.4f; shadowed: mean ratio %.4f\n", lit_mean / lit_count,
+              lit_error / lit_count, shadowed / shadowed_count);
+  EXPECT_NEAR(lit_mean / lit_count, 1.0, 0.03);
+  EXPECT_LT(lit_error / lit_count, 0.05);
+  EXPECT_LT(shadowed / shadowed_count, 0.02);
+}
+
 TEST_F(Ssvp, OneBounceHasNoSecondBounce) {
   build_furnace();
   settings_.bounces = 1;

@@ -10,7 +10,9 @@
 //   cluster      - the VPLs are read back and clustered on the CPU by k-means under Eq. 2 (as intended: see
 //                  shaders/ssvp/ssvp_shared.glsl), seeded with the previous frame's clusters (Sec. III-C).
 //   paraboloids  - per cluster, a paraboloid map of the hemisphere around its normal (Heidrich and Seidel 1998)
-//                  from its mean position: the scene through the tessellator, so long edges bend as they should.
+//                  from its mean position (lifted off its surface by 0.1 % of the scene's size), drawn through the
+//                  tessellator so that wide triangles bend as they should; each texel's depth is its own
+//                  direction's hit on the triangle's plane, so the pieces can stay coarse.
 //   propagate    - second-bounce VPLs (Sec. II-B) at uniform unit-disk points of each cluster's map, each
 //                  carrying albedo x the cluster's intensity towards it (its members' cosine lobes) x the solid
 //                  angle its disk area covers (the map's Jacobian, 4 / (1 + r^2)^2).

@@ -198,7 +198,7 @@ def main(argv=None):
     measure = Errors(references, cpu_references)
 
     records = []
-    for index, (scene, width, height) in enumerate(scenes, 1):
+    for index, (scene, width, height) in enumerate(scenes if suite.sequence is None else (), 1):
         jobs = jobs_for(scene, width, height, configs, args, suite, out / "renders", errors)
         if errors:
             jobs = [job for r in references for job in r.missing_jobs(scene, [(width, height)])] + jobs
@@ -215,6 +215,14 @@ def main(argv=None):
                 record.update(suite=suite.name, **measure.measure(scene, record) if errors else {})
                 records.append(record)
         log(f"scene {scene.name} done in {time.perf_counter() - scene_start:.1f} s")
+
+    if suite.sequence is not None:
+        for scene, width, height in scenes:
+            log(f"{scene.name} at {width}x{height}: {suite.summary}")
+            sequence = dict(suite.sequence, quick=None, frames=suite.sequence["quick" if args.quick else "frames"])
+            records += [dict(r, scene=scene.name, width=width, height=height, role="measure") for r in
+                        runner.run_script(scene, runner.TEMPORAL_SCRIPT,
+                                          dict(sequence, width=width, height=height), out / "logs")]
 
     with open(out / "records.jsonl", "w") as f:
         f.writelines(json.dumps(r) + "\n" for r in records)

@@ -191,4 +191,5 @@ def main():
             render_job(scene, job, records, index, len(jobs), warmed)
 
 
-main()
+if __name__ == "__main__":  # ssvp_temporal.py imports the helpers above
+    main()

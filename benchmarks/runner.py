@@ -20,6 +20,7 @@ SHARED = Path(os.environ.get("BOUNCE_SHARED_DIR") or REPO.parent / "shared").res
 SETUPS = SHARED / "scenes" / "setups"
 RENDER_SCRIPT = HERE / "blender_render.py"
 DRAGON_SCRIPT = HERE / "dragon_scene.py"
+TEMPORAL_SCRIPT = HERE / "ssvp_temporal.py"
 # Seeds differ so a reference's noise is independent of the Cycles renders measured against it.
 REFERENCE_SEED = 7919
 CYCLES_SEED = 0
@@ -92,29 +93,35 @@ def dragon_scene(copies, instancing, cache):
     return Scene(name, blend, key, triangles_hint=copies * 100_000 + 2)
 
 
-def blender_command(blend, jobs_file):
+def blender_command(blend, jobs_file, script=RENDER_SCRIPT):
     scene = [str(blend)] if blend else ["--factory-startup"]
     return [str(REPO / "scripts" / "blender"), "-b", *scene, "--python-exit-code", "1",
-            "--python", str(RENDER_SCRIPT), "--", str(jobs_file)]
+            "--python", str(script), "--", str(jobs_file)]
 
 
 def run_blender(scene, jobs, work, info=None):
     """Renders `jobs` in one Blender run; returns the records it wrote. Progress lines pass through."""
+    return run_script(scene, RENDER_SCRIPT, {"info": str(info) if info else None,
+                                             "extra_triangles": scene.extra_triangles, "jobs": jobs}, work)
+
+
+def run_script(scene, script, config, work):
+    """Runs a Blender-side benchmark `script` on `scene` with `config` (plus "records": the file it appends JSON
+    lines to); returns those records. Progress lines pass through."""
     work.mkdir(parents=True, exist_ok=True)
     stem = f"{scene.name}-{int(time.time() * 1000) % 10**9}"
     records_file = work / f"{stem}.records.jsonl"
     records_file.unlink(missing_ok=True)
     jobs_file = work / f"{stem}.jobs.json"
-    jobs_file.write_text(json.dumps({"records": str(records_file), "info": str(info) if info else None,
-                                     "extra_triangles": scene.extra_triangles, "jobs": jobs}, indent=1))
+    jobs_file.write_text(json.dumps(dict(config, records=str(records_file)), indent=1))
     logfile = work / f"{stem}.log"
     env = dict(os.environ, BOUNCE_BUILD_DIR=str(BUILD))
     with open(logfile, "w") as out:
-        process = subprocess.Popen(blender_command(scene.blend, jobs_file), cwd=REPO, env=env, text=True,
+        process = subprocess.Popen(blender_command(scene.blend, jobs_file, script), cwd=REPO, env=env, text=True,
                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, errors="replace")
         for line in process.stdout:
             out.write(line)
-            if line.startswith("benchmark:") or "Error" in line:
+            if line.startswith(("benchmark:", "temporal:")) or "Error" in line:
                 print(f"  {scene.name}: {line.rstrip()}", flush=True)
         process.wait()
     if process.returncode != 0:

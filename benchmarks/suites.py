@@ -27,6 +27,7 @@ class Suite:
     quick_cycles_samples: tuple = ()
     direct_baseline: bool = False                   # also render method DIRECT, for frame / direct-only ratios
     reference_bounces: int = 1                      # diffuse bounces of the Cycles reference
+    sequence: dict = None                           # a frame sequence in one engine (ssvp_temporal.py) instead
     report: object = None
 
 
@@ -257,6 +258,50 @@ def table1_report(ctx, records, stages):
             "propagation; Shading holds the interleaved shading of both bounces, the debug view and the blur.")
 
 
+def temporal_report(ctx, records, _stages):
+    """Frame-to-frame change of the Indirect pass per motion and cluster seeding: a table and change per frame."""
+    import statistics
+    groups = {}
+    for r in records:
+        groups.setdefault((r["scene"], r["motion"], r["seeding"]), []).append(r)
+    rows = []
+    for (scene, motion, seeding), frames in sorted(groups.items()):
+        changes = [f["change"] for f in frames if f.get("change") is not None]
+        static = [f["change_static"] for f in frames if f.get("change_static") is not None]
+        rows.append({"scene": scene, "motion": motion, "seeding": seeding, "frames": len(frames),
+                     "mean change": statistics.fmean(changes), "max change": max(changes),
+                     "mean change, static region": statistics.fmean(static) if static else float("nan"),
+                     "static pixels": statistics.median(f.get("static_pixels", 0) for f in frames[1:]),
+                     "frame s": statistics.median(f["seconds"] for f in frames)})
+    lines = [report.markdown(rows, ["scene", "motion", "seeding", "frames", "mean change", "max change",
+                                    "mean change, static region", "static pixels", "frame s"]), ""]
+    for scene, motion in sorted({(r["scene"], r["motion"]) for r in rows}):
+        by = {r["seeding"]: r for r in rows if r["scene"] == scene and r["motion"] == motion}
+        if "fresh" in by and "last frame" in by and by["last frame"]["mean change"] > 0:
+            lines.append(f"- {scene}, {motion}: seeding from the last frame changes the Indirect pass by "
+                         f"{100 * by['last frame']['mean change']:.2f} % a frame on average, fresh seeding by "
+                         f"{100 * by['fresh']['mean change']:.2f} % "
+                         f"({by['fresh']['mean change'] / by['last frame']['mean change']:.3g}x).")
+    plt = report.pyplot()
+    motions = sorted({r["motion"] for r in records})
+    fig, axes = plt.subplots(1, len(motions), figsize=(5.5 * len(motions), 4), squeeze=False)
+    for ax, motion in zip(axes[0], motions):
+        for (scene, m, seeding), frames in sorted(groups.items()):
+            if m != motion:
+                continue
+            points = [(f["frame"], 100 * f["change"]) for f in frames if f.get("change") is not None]
+            ax.plot(*zip(*points), marker=".", label=f"{scene}, seeded from {seeding}")
+        ax.set_title({"orbit": "camera orbit, still light (fixed probe view)",
+                      "light": "turning light, still camera"}.get(motion, motion), fontsize=10)
+        ax.set_xlabel("frame")
+        ax.set_ylabel("change of Indirect from the last frame (%)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    report.save(fig, ctx.out / f"{ctx.suite.name}.png", ctx.title)
+    return "\n".join(lines) + ("\n\nChange of frame f: mean |I_f - I_(f-1)| / mean I_(f-1) over the pixels that see "
+                               "geometry; the static region: the pixels no direct light reaches in either frame.")
+
+
 _DRAGONS = (1, 2, 5, 10, 20, 50, 100)
 _QUICK_DRAGONS = (1, 2, 3)
 
@@ -304,4 +349,10 @@ SUITES = {s.name: s for s in (
           "clusters", "SSVP", [("sponza", 1920, 1080)], [("sponza", 192, 108)],
           sets={"samples": [1], "ssvp_vpls": [256], "ssvp_second_vpls": [256], "ssvp_clusters": [4, 8, 16, 32]},
           quick_sets={"ssvp_clusters": [4, 8]}, errors=False, report=table1_report),
+    Suite("ssvp-temporal", "SSVP's temporal stability over 60 frames, a camera orbit and a turning sun, with "
+          "k-means seeded from the last frame against seeded afresh (paper Sec. III-C)", "SSVP",
+          [("sponza", 320, 180)], [("sponza", 96, 54)], errors=False,
+          sequence={"frames": 60, "quick": 6, "orbit_degrees": 30.0, "light_degrees": 6.0,
+                    "bounce": {"samples": 1, "ssvp_vpls": 256, "ssvp_second_vpls": 256, "ssvp_clusters": 8}},
+          report=temporal_report),
 )}

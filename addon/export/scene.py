@@ -107,11 +107,13 @@ class SceneSync:
         self._next_key = 1
         self._synced_depsgraph = None  # as_pointer() of the depsgraph synced last
 
-    def sync(self, depsgraph, reports):
+    def sync(self, depsgraph, reports, moved=False):
         """Bring the native scene up to date; True when anything was sent. A depsgraph other than the last one
-        (the next view layer of a final render) is synced in full."""
+        (the next view layer of a final render) is synced in full. `moved`: the caller moved objects or lights
+        outside a depsgraph update (a script stepping through frames), so transforms and lights are re-read
+        even though the depsgraph lists no update; geometry is not."""
         if self._synced_depsgraph == depsgraph.as_pointer():
-            if not depsgraph.updates:
+            if not depsgraph.updates and not moved:
                 return False
             dirty = _dirty_from_updates(depsgraph)
         else:

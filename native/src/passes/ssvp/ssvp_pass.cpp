@@ -96,7 +96,9 @@ void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers
   p.centre_offset = 1e-3f * p.length_scale;
   p.bounces = std::clamp(s.bounces, 1, 2);
   p.sample = static_cast<int32_t>(context.sample);
-  p.pattern_rotation = static_cast<int32_t>(hash_combine(context.seed, context.sample) % 65536u);
+  // Sample 0 keeps one pattern, as it keeps one Hammersley set: a still scene gives the same frame again.
+  p.pattern_rotation =
+      context.sample == 0 ? 0 : static_cast<int32_t>(hash_combine(context.seed, context.sample) % 65536u);
 
   render_rsm(context, gbuffers, light);
   sample_first_bounce(context, light);

@@ -280,7 +280,9 @@ BounceLight ceiling_light(float size) {
 }
 
 TEST_F(Ssvp, ScaleFree) {
-  // The same room at 1e-4, 1 and 1e4 m with the light's intensity scaled as size^2: the same image.
+  // The same room at 1e-4, 1 and 1e4 m with the light's intensity scaled as size^2: the same image, up to
+  // rounding, which can move a VPL across a cluster boundary (a few samples average such flips out).
+  settings_.samples = 4;
   std::vector<double> means;
   for (float size : {1e-4f, 1.0f, 1e4f}) {
     room(size, ceiling_light(size));
@@ -387,7 +389,6 @@ TEST_F(Ssvp, ClusteredVisibilityAgainstTheClosedForm) {
       const float d = glm::length(w);
       const double expected = rho / kPi * flux / kPi * (w.z / d) * (w.x / d) / (d * d);
       const float value = indirect.at(px, py)[0];
-      if (getenv("SSVP_DUMP")) std::printf("%s%4.2f", px ? " " : "\n", value / expected);
       if (w.y > 0.1f && w.z > 0.2f) {
         lit_error += std::abs(value - expected) / expected;
         lit_mean += value / expected;

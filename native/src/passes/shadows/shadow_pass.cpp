@@ -8,6 +8,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gl/shader.h"
+#include "passes/light_views.h"
 #include "sampling.h"
 
 namespace bounce {
@@ -15,22 +16,10 @@ namespace bounce {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
-constexpr float kWidestPerspectiveHalfAngle = 75.0f * kPi / 180.0f;
 constexpr double kShadowMemoryBudget = 1024.0 * 1024.0 * 1024.0;
 
-glm::vec3 vec3_of(const float* v) { return {v[0], v[1], v[2]}; }
-
-glm::vec3 any_perpendicular(glm::vec3 d) {
-  const glm::vec3 axis = std::abs(d.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
-  return glm::normalize(glm::cross(d, axis));
-}
-
 ShadowKind kind_of(const BounceLight& light) {
-  if (!light.cast_shadow) return kShadowNone;
-  if (light.type == BOUNCE_LIGHT_SUN) return kShadowOrthographic;
-  if (light.type == BOUNCE_LIGHT_SPOT && light.spot_half_angle <= kWidestPerspectiveHalfAngle)
-    return kShadowPerspective;
-  return kShadowCube;
+  return light.cast_shadow ? static_cast<ShadowKind>(light_view_kind(light)) : kShadowNone;
 }
 
 gl::Texture make_shadow_texture(ShadowKind kind, int size) {
@@ -146,9 +135,6 @@ void ShadowPass::prepare(const RenderContext& context, std::size_t index, const 
   const double lights = static_cast<double>(std::max<std::size_t>(context.scene.lights().size(), 1));
   while (size > 64 && lights * faces * 4.0 * size * size > kShadowMemoryBudget) size /= 2;
 
-  const glm::vec3 lo = context.scene.bounds_min(), hi = context.scene.bounds_max();
-  const glm::vec3 centre = 0.5f * (lo + hi);
-  const float scene_radius = std::max(0.5f * glm::length(hi - lo), 1e-6f) * 1.01f;
   const bool reuse = map.depth && map.kind == kind && map.size == size && map.origin == origin &&
                      map.geometry_version == context.scene.geometry_version() &&
                      std::memcmp(&map.light, &light, sizeof light) == 0;
@@ -165,47 +151,12 @@ void ShadowPass::prepare(const RenderContext& context, std::size_t index, const 
     map.origin = origin;
     map.geometry_version = context.scene.geometry_version();
     map.light = light;
-    glm::mat4 face_view_projections[6];
-    if (kind == kShadowOrthographic) {
-      const glm::vec3 eye = centre + origin * (2.0f * scene_radius);
-      const glm::mat4 view = glm::lookAt(eye, centre, any_perpendicular(origin));
-      face_view_projections[0] = glm::ortho(-scene_radius, scene_radius, -scene_radius, scene_radius,
-                                            0.5f * scene_radius, 3.5f * scene_radius) *
-                                 view;
-      map.texel_factor = 2.0f * scene_radius / static_cast<float>(size);
-      map.near_plane = 0.5f * scene_radius;
-      map.far_plane = 3.5f * scene_radius;
-    } else {
-      float farthest = 0.0f;
-      for (int corner = 0; corner < 8; ++corner) {
-        const glm::vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
-        farthest = std::max(farthest, glm::length(p - origin));
-      }
-      map.far_plane = std::max(farthest * 1.05f, 1e-5f);
-      map.near_plane = map.far_plane * 1e-4f;
-      if (kind == kShadowPerspective) {
-        const float half_fov = std::min(light.spot_half_angle + 0.035f, 1.5f);
-        const glm::vec3 forward = -vec3_of(light.axis_z);
-        const glm::mat4 view = glm::lookAt(origin, origin + forward, vec3_of(light.axis_y));
-        face_view_projections[0] = glm::perspective(2.0f * half_fov, 1.0f, map.near_plane, map.far_plane) * view;
-        map.texel_factor = 2.0f * std::tan(half_fov) / static_cast<float>(size);
-      } else {
-        // Cube-map face order and up vectors of the GL convention (+X, -X, +Y, -Y, +Z, -Z), in the light's own
-        // frame: the shaders look up directions expressed in that frame.
-        static const glm::vec3 directions[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-        static const glm::vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
-        const glm::mat3 frame(vec3_of(light.axis_x), vec3_of(light.axis_y), vec3_of(light.axis_z));
-        const glm::mat4 projection = glm::perspective(0.5f * kPi, 1.0f, map.near_plane, map.far_plane);
-        for (int f = 0; f < 6; ++f)
-          face_view_projections[f] = projection * glm::lookAt(origin, origin + frame * directions[f], frame * ups[f]);
-        map.texel_factor = 2.0f / static_cast<float>(size);
-      }
-    }
-    map.view_projection = face_view_projections[0];
-    // Area and spot lights emit along -z of their frame only (a spot cone is at most a hemisphere): the +z
-    // face of their cube is never lit, so it is not rendered.
-    const bool front_only = light.type != BOUNCE_LIGHT_POINT && kind == kShadowCube;
-    render(context, map, face_view_projections, faces, front_only ? 4 : -1);
+    const LightViews views = light_views(light, origin, context.scene.bounds_min(), context.scene.bounds_max(), size);
+    map.view_projection = views.view_projection[0];
+    map.texel_factor = views.texel_factor;
+    map.near_plane = views.near_plane;
+    map.far_plane = views.far_plane;
+    render(context, map, views.view_projection.data(), views.faces, views.skipped_face);
   }
   glBindTextureUnit(kind == kShadowCube ? 7 : 6, map.depth.id());
   glBindTextureUnit(kind == kShadowCube ? 10 : 9, map.depth.id());

@@ -1,9 +1,9 @@
 // Shadow maps, one per shadow-casting light, kept while neither the light's sample point nor the geometry
 // changes. Shaders: shaders/shadows/shadow.vert, shaders/shadows/shadow.frag.
 //
-// Kinds: sun - orthographic, fitted to the scene's bounding sphere; spot - perspective over the cone (a cube
-// when the cone is wider than 150 degrees); point and area - a cube map in the light's frame (area and spot
-// lights skip the face behind them).
+// Kinds (passes/light_views.h): sun - orthographic, fitted to the scene's bounding sphere; spot - perspective
+// over the cone (a cube when the cone is wider than 150 degrees); point and area - a cube map in the light's
+// frame (area and spot lights skip the face behind them).
 //
 // Soft shadows (a documented approximation): sample s renders the map from a point drawn uniformly on the
 // light (area: its rectangle or ellipse; point/spot: the ball of its radius; sun: the cone of its angular
@@ -39,6 +39,7 @@ struct LightBlock {
   float shadow_soft[4];
 };
 
+// The shaders' SHADOW_* kinds: a light's view kind (passes/light_views.h), or none.
 enum ShadowKind { kShadowNone = 0, kShadowOrthographic = 1, kShadowPerspective = 2, kShadowCube = 3 };
 
 class ShadowPass {

@@ -5,12 +5,12 @@
 #include <cstring>
 #include <numeric>
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "error.h"
 #include "gl/shader.h"
 #include "passes/direct/direct_pass.h"
+#include "passes/light_views.h"
 #include "sampling.h"
 
 namespace bounce {
@@ -25,12 +25,9 @@ constexpr GLuint kSecondBinding = 9;
 constexpr GLuint kParaboloidPositionUnit = 13;
 constexpr GLuint kParaboloidNormalUnit = 14;
 constexpr GLuint kParaboloidAlbedoUnit = 15;
-constexpr float kPi = 3.14159265358979f;
-constexpr float kWidestPerspectiveHalfAngle = 75.0f * kPi / 180.0f;
 constexpr int kMinSecondPerCluster = 32;  // Sec. III-D
 constexpr double kParaboloidMemoryBudget = 512.0 * 1024.0 * 1024.0;
 constexpr int kParaboloidBytesPerTexel = 16 + 8 + 8 + 4;
-constexpr int kRsmOrthographic = 1, kRsmPerspective = 2, kRsmCube = 3;
 
 struct GpuVpl {
   glm::vec4 position_cluster, normal, flux;
@@ -38,13 +35,6 @@ struct GpuVpl {
 struct GpuCluster {
   glm::vec4 position_first, normal_count, tangent, bitangent;
 };
-
-glm::vec3 vec3_of(const float* v) { return {v[0], v[1], v[2]}; }
-
-glm::vec3 any_perpendicular(glm::vec3 d) {
-  const glm::vec3 axis = std::abs(d.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
-  return glm::normalize(glm::cross(d, axis));
-}
 
 void upload(gl::Buffer& buffer, std::size_t& capacity, std::size_t bytes, const void* data) {
   gl::upload_buffer(buffer, capacity, std::max<std::size_t>(bytes, 16), data);
@@ -115,72 +105,39 @@ void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers
 
 void SsvpPass::render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light) {
   const int size = std::clamp(context.settings.ssvp_rsm_size, 16, 8192);
-  const int kind = light.type == BOUNCE_LIGHT_SUN ? kRsmOrthographic
-                   : light.type == BOUNCE_LIGHT_SPOT && light.spot_half_angle <= kWidestPerspectiveHalfAngle
-                       ? kRsmPerspective
-                       : kRsmCube;
-  const int faces_x = kind == kRsmCube ? 3 : 1, faces_y = kind == kRsmCube ? 2 : 1;
+  const LightViewKind kind = light_view_kind(light);
+  // A cube's faces sit in a 3 x 2 atlas, so one Hammersley set over the atlas samples all of them.
+  const int faces_x = kind == kLightViewCube ? 3 : 1, faces_y = kind == kLightViewCube ? 2 : 1;
   const bool reuse = rsm_.gbuffer.width == faces_x * size && rsm_.gbuffer.height == faces_y * size &&
-                     rsm_.kind == kind && rsm_.geometry_version == context.scene.geometry_version() &&
+                     rsm_.geometry_version == context.scene.geometry_version() &&
                      std::memcmp(&rsm_.light, &light, sizeof light) == 0;
   if (!reuse) {
     StageScope scope(context.timer, Stage::SsvpRsm);
     if (rsm_.gbuffer.width != faces_x * size || rsm_.gbuffer.height != faces_y * size)
       rsm_.gbuffer = make_gbuffer(faces_x * size, faces_y * size);
-    const glm::vec3 lo = context.scene.bounds_min(), hi = context.scene.bounds_max();
-    const glm::vec3 centre = 0.5f * (lo + hi);
-    const float radius = std::max(0.5f * glm::length(hi - lo), 1e-6f) * 1.01f;
-    std::vector<GBufferView> views;
-    if (kind == kRsmOrthographic) {
-      const glm::vec3 towards = glm::normalize(vec3_of(light.axis_z));
-      const glm::mat4 view = glm::lookAt(centre + towards * (2.0f * radius), centre, any_perpendicular(towards));
-      const glm::mat4 projection = glm::ortho(-radius, radius, -radius, radius, 0.5f * radius, 3.5f * radius);
-      views.push_back({projection * view, view, centre, -towards, true, {0, 0, size, size}});
-      rsm_.origin = towards;
-      rsm_.texel_factor = 2.0f * radius / static_cast<float>(size);
-    } else {
-      const glm::vec3 origin = vec3_of(light.position);
-      float farthest = 0.0f;
-      for (int corner = 0; corner < 8; ++corner) {
-        const glm::vec3 q((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
-        farthest = std::max(farthest, glm::length(q - origin));
-      }
-      const float far_plane = std::max(farthest * 1.05f, 1e-5f), near_plane = far_plane * 1e-4f;
-      rsm_.origin = origin;
-      if (kind == kRsmPerspective) {
-        const float half_fov = std::min(light.spot_half_angle + 0.035f, 1.5f);
-        const glm::vec3 forward = -vec3_of(light.axis_z);
-        const glm::mat4 view = glm::lookAt(origin, origin + forward, vec3_of(light.axis_y));
-        views.push_back({glm::perspective(2.0f * half_fov, 1.0f, near_plane, far_plane) * view,
-                         view,
-                         origin,
-                         forward,
-                         false,
-                         {0, 0, size, size}});
-        rsm_.texel_factor = 2.0f * std::tan(half_fov) / static_cast<float>(size);
-      } else {
-        static const glm::vec3 directions[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-        static const glm::vec3 ups[6] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
-        const glm::mat3 frame(vec3_of(light.axis_x), vec3_of(light.axis_y), vec3_of(light.axis_z));
-        const glm::mat4 projection = glm::perspective(0.5f * kPi, 1.0f, near_plane, far_plane);
-        for (int f = 0; f < 6; ++f) {
-          // Area lights and wide spots emit along -z of their frame only: the +z face stays empty.
-          if (f == 4 && light.type != BOUNCE_LIGHT_POINT) continue;
-          const glm::vec3 forward = frame * directions[f];
-          const glm::mat4 view = glm::lookAt(origin, origin + forward, frame * ups[f]);
-          views.push_back(
-              {projection * view, view, origin, forward, false, {(f % 3) * size, (f / 3) * size, size, size}});
-        }
-        rsm_.texel_factor = 2.0f / static_cast<float>(size);
-      }
+    const glm::vec3 origin =
+        kind == kLightViewOrthographic ? glm::normalize(vec3_of(light.axis_z)) : vec3_of(light.position);
+    const LightViews views = light_views(light, origin, context.scene.bounds_min(), context.scene.bounds_max(), size);
+    std::vector<GBufferView> faces;
+    for (int f = 0; f < views.faces; ++f) {
+      if (f == views.skipped_face) continue;
+      const glm::vec3 forward = -glm::vec3(glm::transpose(views.view[f])[2]);
+      faces.push_back({views.view_projection[f],
+                       views.view[f],
+                       origin,
+                       forward,
+                       kind == kLightViewOrthographic,
+                       {(f % 3) * size, (f / 3) * size, size, size}});
     }
-    gbuffers.render(rsm_.gbuffer, views, context.scene);
+    gbuffers.render(rsm_.gbuffer, faces, context.scene);
     rsm_.light = light;
     rsm_.geometry_version = context.scene.geometry_version();
     rsm_.face_size = size;
     rsm_.faces_x = faces_x;
     rsm_.faces_y = faces_y;
     rsm_.kind = kind;
+    rsm_.origin = origin;
+    rsm_.texel_factor = views.texel_factor;
     gl::check("rendering the reflective shadow map");
   }
   params_.light_origin[0] = rsm_.origin.x;

@@ -1,10 +1,11 @@
 // Screen-Space VPL Propagation (Aranha et al. 2020): one or two diffuse bounces of the main light.
 // Shaders: shaders/ssvp/. Per sample (Fig. 1):
 //   rsm          - the main light's reflective shadow map (Sec. II-A, Dachsbacher and Stamminger 2005): the
-//                  G-buffer program drawn from the light. Sun: orthographic over the scene's bounding sphere;
-//                  spot up to 75 degrees: one perspective face over its cone; point, area and wider spots: the
-//                  six faces of a cube around the light, in a 3x2 atlas (an area light's back face stays empty),
-//                  which covers all they emit. Kept while the light and the geometry are unchanged.
+//                  G-buffer program drawn from the light's views (passes/light_views.h, as its shadow map). Sun:
+//                  orthographic over the scene's bounding sphere; spot up to 75 degrees: one perspective face over
+//                  its cone; point, area and wider spots: the six faces of a cube around the light's centre, in a
+//                  3x2 atlas (the back face of an area light stays empty), which covers all they emit. Kept while
+//                  the light and the geometry are unchanged.
 //   sample       - first-bounce VPLs at the texels of a 2-D Hammersley set (Eq. 1), each carrying its texel's
 //                  reflected flux: albedo x irradiance x the surface area the texel sees, times texels / VPLs.
 //   cluster      - the VPLs are read back and clustered on the CPU by k-means under Eq. 2 (as intended: see
@@ -67,7 +68,7 @@ class SsvpPass {
     GBuffer gbuffer;
     BounceLight light{};
     uint64_t geometry_version = 0;
-    int face_size = 0, faces_x = 0, faces_y = 0, kind = 0;
+    int face_size = 0, faces_x = 0, faces_y = 0, kind = 0;  // kind: LightViewKind
     glm::vec3 origin{0.0f};
     float texel_factor = 0.0f;
   };

@@ -205,21 +205,22 @@ def clusters_report(ctx, records, stages):
     by_scene = {}
     for r in records:
         if r.get("role") == "measure" and r.get("exr") and r.get("method") == "SSVP":
-            by_scene.setdefault(r["scene"], {}).setdefault(r["params"]["ssvp_clusters"], r["exr"])
+            key = (r["scene"], r["params"].get("samples", 1))
+            by_scene.setdefault(key, {}).setdefault(r["params"]["ssvp_clusters"], r["exr"])
     table = []
-    for scene, exrs in sorted(by_scene.items()):
+    for (scene, samples), exrs in sorted(by_scene.items()):
         most = max(exrs)
         reference = images.load(exrs[most])
         for clusters in sorted(exrs):
             if clusters == most:
                 continue
             errors = images.compare(images.load(exrs[clusters]), reference, "")
-            table.append({"scene": scene, "clusters": clusters, "against": most,
+            table.append({"scene": scene, "samples": samples, "clusters": clusters, "against": most,
                           "combined rel. RMSE": errors["combined_rel_rmse"],
                           "indirect rel. RMSE": errors.get("indirect_rel_rmse", float("nan")),
                           "paper RMSE": PAPER_RMSE_AGAINST_32.get(clusters, float("nan")) if most == 32 else None})
-    lines.append(report.markdown(table, ["scene", "clusters", "against", "combined rel. RMSE", "indirect rel. RMSE",
-                                         "paper RMSE"]))
+    lines.append(report.markdown(table, ["scene", "samples", "clusters", "against", "combined rel. RMSE",
+                                         "indirect rel. RMSE", "paper RMSE"]))
     return text + "\n".join(lines)
 
 
@@ -333,8 +334,8 @@ SUITES = {s.name: s for s in (
     Suite("ssvp-clusters", "SSVP error and frame time against the cluster count (Eq. 2 k-means), against Cycles "
           "with two diffuse bounces, and against the 32-cluster image as in the paper", "SSVP",
           [("cornell", 512, 512), ("sponza", 640, 360)], [("cornell", 64, 64), ("sponza", 96, 54)],
-          sets={"samples": [1], "ssvp_clusters": [4, 8, 16, 32]}, quick_sets={"ssvp_clusters": [4, 32]},
-          reference_bounces=2, report=clusters_report),
+          sets={"samples": [1, 16], "ssvp_clusters": [4, 8, 16, 32]},
+          quick_sets={"samples": [1], "ssvp_clusters": [4, 32]}, reference_bounces=2, report=clusters_report),
     Suite("ssvp-vpls", "SSVP error and frame time against the first- and second-bounce VPL counts", "SSVP",
           [("cornell", 512, 512)], [("cornell", 64, 64)],
           sets={"samples": [1], "ssvp_second_vpls": [64, 256, 1024], "ssvp_vpls": [64, 128, 256, 512, 1024]},

@@ -16,7 +16,7 @@ layout(std140, binding = 5) uniform SsvpParams {
 
 struct Vpl {
   vec4 position_cluster;  // xyz position, w the cluster whose paraboloid map shadows it
-  vec4 normal;            // xyz unit normal of its emitting side
+  vec4 normal;            // xyz unit normal of its emitting side, w the area of the surface it stands for
   vec4 flux;              // rgb flux (W), w 1 if the VPL exists (0: its sample hit no surface)
 };
 

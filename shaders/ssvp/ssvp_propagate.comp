@@ -9,6 +9,8 @@
 
 layout(local_size_x = 64) in;
 
+const float MIN_COSINE = 1e-2;  // a surface seen edge-on stands for a long strip; its area is capped there
+
 layout(binding = 13) uniform sampler2DArray paraboloid_position;
 layout(binding = 14) uniform sampler2DArray paraboloid_normal;
 layout(binding = 15) uniform sampler2DArray paraboloid_albedo;
@@ -48,7 +50,11 @@ void main() {
       }
     }
     vpl.position_cluster = vec4(y, float(nearest));
-    vpl.normal = vec4(n, 0.0);
+    // The surface this VPL stands for: its solid angle seen from the centre, at its distance and slant.
+    vec3 to_centre = cluster.position_first.xyz - y;
+    float d2 = dot(to_centre, to_centre);
+    float area = solid_angle * d2 / max(dot(n, to_centre) * inversesqrt(max(d2, 1e-30)), MIN_COSINE);
+    vpl.normal = vec4(n, area);
     vpl.flux = vec4(albedo.rgb * intensity * solid_angle, 1.0);
     if (any(isnan(vpl.flux)) || any(isinf(vpl.flux))) vpl.flux = vec4(0.0);
   }

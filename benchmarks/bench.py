@@ -71,6 +71,8 @@ def parse_args(argv):
     parser.add_argument("--no-errors", action="store_true", help="measure time only")
     parser.add_argument("--quick", action="store_true", help="small resolutions, short sweeps, one repeat")
     parser.add_argument("--out", type=Path)
+    parser.add_argument("--report-only", action="store_true",
+                        help="write the table, CSVs and plot again from the records.jsonl of an earlier run in --out")
     return parser.parse_args(argv)
 
 
@@ -180,7 +182,7 @@ def main(argv=None):
     suite = SUITES[args.suite]
     started = time.perf_counter()
     out = (args.out or runner.BUILD / "benchmark" / suite.name).resolve()
-    for folder in ("renders", "logs"):
+    for folder in ("renders", "logs") if not args.report_only else ():
         runner.clear(out / folder)
     runner.ensure_built()
     probe = runner.probe(out / "logs")
@@ -197,32 +199,35 @@ def main(argv=None):
         references[0].folder, args.cpu_reference_points or (4096 if args.quick else 65536)) if use_cpu_model else None
     measure = Errors(references, cpu_references)
 
-    records = []
-    for index, (scene, width, height) in enumerate(scenes if suite.sequence is None else (), 1):
-        jobs = jobs_for(scene, width, height, configs, args, suite, out / "renders", errors)
-        if errors:
-            jobs = [job for r in references for job in r.missing_jobs(scene, [(width, height)])] + jobs
-        if cpu_references is not None:
-            jobs = cpu_references.missing_jobs(scene, [(width, height)]) + jobs
-        renders = sum(job.get("repeats", 1) for job in jobs)
-        log(f"scene {index}/{len(scenes)}: {scene.name} at {width}x{height}, {renders} renders")
-        scene_start = time.perf_counter()
-        scene_records = runner.run_blender(scene, jobs, out / "logs")
-        if cpu_references is not None:
-            cpu_references.complete(out / "logs")
-        for record in scene_records:
-            if record.get("role") == "measure":
-                record.update(suite=suite.name, **measure.measure(scene, record) if errors else {})
-                records.append(record)
-        log(f"scene {scene.name} done in {time.perf_counter() - scene_start:.1f} s")
+    if args.report_only:
+        records = [json.loads(line) for line in (out / "records.jsonl").read_text().splitlines() if line.strip()]
+    else:
+        records = []
+        for index, (scene, width, height) in enumerate(scenes if suite.sequence is None else (), 1):
+            jobs = jobs_for(scene, width, height, configs, args, suite, out / "renders", errors)
+            if errors:
+                jobs = [job for r in references for job in r.missing_jobs(scene, [(width, height)])] + jobs
+            if cpu_references is not None:
+                jobs = cpu_references.missing_jobs(scene, [(width, height)]) + jobs
+            renders = sum(job.get("repeats", 1) for job in jobs)
+            log(f"scene {index}/{len(scenes)}: {scene.name} at {width}x{height}, {renders} renders")
+            scene_start = time.perf_counter()
+            scene_records = runner.run_blender(scene, jobs, out / "logs")
+            if cpu_references is not None:
+                cpu_references.complete(out / "logs")
+            for record in scene_records:
+                if record.get("role") == "measure":
+                    record.update(suite=suite.name, **measure.measure(scene, record) if errors else {})
+                    records.append(record)
+            log(f"scene {scene.name} done in {time.perf_counter() - scene_start:.1f} s")
 
-    if suite.sequence is not None:
-        for scene, width, height in scenes:
-            log(f"{scene.name} at {width}x{height}: {suite.summary}")
-            sequence = dict(suite.sequence, quick=None, frames=suite.sequence["quick" if args.quick else "frames"])
-            records += [dict(r, scene=scene.name, width=width, height=height, role="measure") for r in
-                        runner.run_script(scene, runner.TEMPORAL_SCRIPT,
-                                          dict(sequence, width=width, height=height), out / "logs")]
+        if suite.sequence is not None:
+            for scene, width, height in scenes:
+                log(f"{scene.name} at {width}x{height}: {suite.summary}")
+                sequence = dict(suite.sequence, quick=None, frames=suite.sequence["quick" if args.quick else "frames"])
+                records += [dict(r, scene=scene.name, width=width, height=height, role="measure") for r in
+                            runner.run_script(scene, runner.TEMPORAL_SCRIPT,
+                                              dict(sequence, width=width, height=height), out / "logs")]
 
     with open(out / "records.jsonl", "w") as f:
         f.writelines(json.dumps(r) + "\n" for r in records)

@@ -35,8 +35,10 @@ def _plural(count, noun):
     return f"{count} {noun}" + ("" if count == 1 else "s")
 
 
-def _label(row, keys):
-    return " ".join(f"{row[k]}" for k in keys if row.get(k) is not None)
+def _label(row, keys, named=()):
+    """The values of `keys`, and `named` ones as 'name value' (e.g. 'cornell SSVP samples 16')."""
+    return " ".join(f"{HEADERS.get(k, k)} {row[k]}" if k in named else f"{row[k]}"
+                    for k in keys if row.get(k) is not None)
 
 
 def _time_columns(rows, stages):
@@ -72,7 +74,8 @@ def sweep_report(ctx, records, stages):
     """Any sweep: one row per scene and swept value; frame time and error against the swept value."""
     swept = ctx.swept or ["method"]
     rows = ctx.summarise(records, ["scene", "method", "width", "height", *swept])
-    columns = ["scene", "method", "width", "height", *swept, "samples", *_time_columns(rows, stages),
+    columns = ["scene", "method", "width", "height", *swept, *(["samples"] if "samples" not in swept else []),
+               *_time_columns(rows, stages),
                *ERROR_COLUMNS]
     table = report.markdown(rows, columns, HEADERS)
     x = swept[-1]
@@ -80,7 +83,7 @@ def sweep_report(ctx, records, stages):
     if numeric:
         series = {}
         for row in sorted(rows, key=lambda r: r[x]):
-            label = _label(row, ["scene", "method"] + [k for k in swept[:-1]])
+            label = _label(row, ["scene", "method"] + [k for k in swept[:-1]], named=swept[:-1])
             xs, fields = series.setdefault(label, ([], {}))
             xs.append(row[x])
             for f in ("frame ms/sample", "wall_seconds", "combined_rel_rmse", "indirect_rel_rmse",

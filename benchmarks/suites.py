@@ -339,9 +339,10 @@ SUITES = {s.name: s for s in (
           [("cornell", 512, 512), ("sponza", 640, 360)], [("cornell", 64, 64), ("sponza", 96, 54)],
           sets={"samples": [1, 16], "ssvp_clusters": [4, 8, 16, 32]},
           quick_sets={"samples": [1], "ssvp_clusters": [4, 32]}, reference_bounces=2, report=clusters_report),
-    Suite("ssvp-vpls", "SSVP error and frame time against the first- and second-bounce VPL counts", "SSVP",
+    Suite("ssvp-vpls", "SSVP error and frame time against the first- and second-bounce VPL counts (8 clusters, so "
+          "at least 256 second-bounce VPLs)", "SSVP",
           [("cornell", 512, 512)], [("cornell", 64, 64)],
-          sets={"samples": [1], "ssvp_second_vpls": [64, 256, 1024], "ssvp_vpls": [64, 128, 256, 512, 1024]},
+          sets={"samples": [1], "ssvp_second_vpls": [256, 1024, 4096], "ssvp_vpls": [64, 128, 256, 512, 1024]},
           quick_sets={"ssvp_second_vpls": [256], "ssvp_vpls": [64, 256]}, reference_bounces=2,
           report=sweep_report),
     Suite("ssvp-bounces", "SSVP with one bounce against two, one frame and 16 samples, against Cycles with two "

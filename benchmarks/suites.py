@@ -294,7 +294,7 @@ def temporal_report(ctx, records, _stages):
             if m != motion:
                 continue
             points = [(f["frame"], 100 * f["change"]) for f in frames if f.get("change") is not None]
-            ax.plot(*zip(*points), marker=".", label=f"{scene}, seeded from {seeding}")
+            ax.plot(*zip(*points), marker=".", label=f"{scene}, clusters seeded: {seeding}")
         ax.set_title({"orbit": "camera orbit, still light (fixed probe view)",
                       "light": "turning light, still camera"}.get(motion, motion), fontsize=10)
         ax.set_xlabel("frame")

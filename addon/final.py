@@ -5,7 +5,7 @@ import numpy as np
 
 from . import native, session
 from .export import Reports, failures_reported, final_camera
-from .properties import fill_settings
+from .properties import fill_settings, method_of
 
 # Render passes: native AOV, Blender pass name, channel ids, pass type. Names match bounce_aov_name().
 PASSES = (
@@ -28,8 +28,14 @@ last_render = {}
 
 
 def register_passes(engine, scene, view_layer):
-    for _aov, name, channel_ids, pass_type in PASSES:
-        engine.register_pass(scene, view_layer, name, len(channel_ids), channel_ids, pass_type)
+    """The passes of the scene's method only: an 8192^2 frame holds 268 MB per channel."""
+    try:
+        written = native.library().method_aovs(method_of(scene.bounce))
+    except native.LibraryLoadError:  # the render will report it; the passes do not matter then
+        written = 0
+    for aov, name, channel_ids, pass_type in PASSES:
+        if written & (1 << aov):
+            engine.register_pass(scene, view_layer, name, len(channel_ids), channel_ids, pass_type)
 
 
 def render(engine, depsgraph):

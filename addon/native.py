@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 1  # BOUNCE_API_VERSION this module was written against
+API_VERSION = 2  # BOUNCE_API_VERSION this module was written against
 
 LIBRARY_ENV = "BOUNCE_LIBRARY"
 LIBRARY_NAME = "libbounce.so"
@@ -302,6 +302,7 @@ class Library:
             "bounce_engine_destroy": ([_Engine_p], None),
             "bounce_aov_channels": ([_i32], _i32),
             "bounce_aov_name": ([_i32], ctypes.c_char_p),
+            "bounce_method_aovs": ([_i32], ctypes.c_uint32),
         }
         for name, (argtypes, restype) in other_functions.items():
             func = getattr(c, name)
@@ -323,6 +324,10 @@ class Library:
 
     def aov_name(self, aov):
         return (self.cdll.bounce_aov_name(aov) or b"").decode()
+
+    def method_aovs(self, method):
+        """The AOVs method `method` (an int) writes, as bits 1 << aov."""
+        return self.cdll.bounce_method_aovs(method)
 
 
 def _settings_struct(table):

@@ -80,10 +80,21 @@ def fill_settings(props, viewport=False):
         if value is None:
             continue
         if row["kind"] == "ENUM":
-            value = next((v for v, (ident, _label, _tip) in enumerate(row["items"]) if ident == value), 0)
+            value = _enum_value(row, value)
         setattr(settings, name, int(value) if row["kind"] != "FLOAT" else float(value))
     lib.validate_settings(settings)
     return settings
+
+
+def _enum_value(row, identifier):
+    """The C value of an enum setting's item; 0 (its first item) for an unknown one, e.g. a raw ID property."""
+    return next((v for v, (ident, _label, _tip) in enumerate(row["items"]) if ident == identifier), 0)
+
+
+def method_of(props):
+    """The C value of `props.method`, as fill_settings sends it (without validating the other settings)."""
+    row = next(row for row in native.library().settings_table if row["name"] == "method")
+    return _enum_value(row, props.method)
 
 
 class _Registered:

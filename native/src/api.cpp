@@ -155,6 +155,8 @@ const char* bounce_aov_name(int32_t aov) {
   return aov >= 0 && aov < BOUNCE_AOV_COUNT ? names[aov] : "";
 }
 
+uint32_t bounce_method_aovs(int32_t method) { return bounce::method_aovs(method); }
+
 BounceStatus bounce_render_start(BounceEngine* engine, const BounceSettings* settings, const BounceCamera* camera) {
   return guarded([&] { engine_of(engine).render_start(deref(settings, "settings"), deref(camera, "camera")); });
 }

@@ -200,10 +200,13 @@ void Engine::frame_read(int32_t aov, float* dst, std::size_t float_count) {
     frame = described_;
   }
   if (!frame) fail(BOUNCE_ERROR_NOT_READY, "call bounce_frame_info first: no frame has been described yet");
-  const std::vector<float>& values = frame->aovs[aov];
-  require(float_count == values.size(), "frame_read: dst holds " + std::to_string(float_count) + " floats, the " +
-                                            bounce_aov_name(aov) + " AOV has " + std::to_string(values.size()));
-  std::memcpy(dst, values.data(), values.size() * sizeof(float));
+  const std::size_t expected = std::size_t(frame->width) * frame->height * bounce_aov_channels(aov);
+  require(float_count == expected, "frame_read: dst holds " + std::to_string(float_count) + " floats, the " +
+                                       bounce_aov_name(aov) + " AOV has " + std::to_string(expected));
+  if (frame->holds(aov))
+    std::memcpy(dst, frame->aovs[aov].data(), expected * sizeof(float));
+  else
+    std::fill(dst, dst + expected, 0.0f);  // not written by the frame's method
 }
 
 }  // namespace bounce

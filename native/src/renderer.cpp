@@ -52,7 +52,8 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
       tiles.push_back({x, y, std::min(settings.tile_size, x1 - x), std::min(settings.tile_size, y1 - y)});
 
   auto frame = std::make_shared<Frame>();
-  frame->allocate(x1 - x0, y1 - y0);
+  const uint32_t aov_bits = method_aovs(settings.method);
+  frame->allocate(x1 - x0, y1 - y0, aov_bits);
   timer_.reset();
   uint64_t nonfinite = 0;
   const int samples = settings.samples;
@@ -63,7 +64,8 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
     StageScope scope(timer_, Stage::Readback);
     uint64_t count = 0;
     for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
-      count += compose_.read(aov, samples_done, into.aovs[aov].data(), into.width, tile.x - x0, tile.y - y0);
+      if (into.holds(aov))
+        count += compose_.read(aov, samples_done, into.aovs[aov].data(), into.width, tile.x - x0, tile.y - y0);
     return count;
   };
   const bool flc = settings.method == BOUNCE_METHOD_FLC;
@@ -133,7 +135,7 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
       const auto now = std::chrono::steady_clock::now();
       if (tiles.size() == 1 && !last && (s == 0 || now - last_publish >= kProgressivePublishInterval)) {
         auto partial = std::make_shared<Frame>();
-        partial->allocate(frame->width, frame->height);
+        partial->allocate(frame->width, frame->height, aov_bits);
         partial->info.nonfinite_pixels = read_tile(*partial, tile, s + 1);
         finish_info(*partial, s + 1);
         callbacks.publish(partial);

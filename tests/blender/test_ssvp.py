@@ -58,6 +58,8 @@ def cornell(blender, cornell_blend, out_root):
 
 def test_cornell_passes(cornell):
     image = cornell["a"]
+    assert {c.split(".")[1] for c in image} == {"Combined", "Direct", "Indirect", "Emission", "Albedo", "Normal",
+                                                 "Depth", "VPLs", "Second Bounce"}
     indirect, second = layer_pass(image, "Indirect"), layer_pass(image, "Second Bounce")
     direct, vpls = layer_pass(image, "Direct"), layer_pass(image, "VPLs")
     for name, values in (("Indirect", indirect), ("Second Bounce", second), ("VPLs", vpls)):

@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 1
+#define BOUNCE_API_VERSION 2
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,
@@ -242,6 +242,10 @@ typedef enum BounceAov {
 
 BOUNCE_API int32_t bounce_aov_channels(int32_t aov); /* 4, 3 or 1; 0 for an unknown AOV */
 BOUNCE_API const char* bounce_aov_name(int32_t aov); /* "Combined", "Direct", ... */
+/* The AOVs a method writes, as bits 1 << aov: every method writes Combined, Direct, Emission, Albedo, Normal and
+ * Depth; FLC and SSVP add Indirect and VPLs, SSVP Second Bounce. A frame holds these only (large frames need
+ * the memory); bounce_frame_read returns zeros for the others. */
+BOUNCE_API uint32_t bounce_method_aovs(int32_t method);
 
 /* Starts a render of settings->samples progressive samples (copied) in the background. A render already
  * running is cancelled first. */

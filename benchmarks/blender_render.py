@@ -96,15 +96,19 @@ def configure(scene, job):
                 ob.visible_camera = False
     else:
         scene.render.engine = "BOUNCE"
-        props = scene.bounce
-        # Unset every setting first so a job's result does not depend on the jobs before it.
-        for prop in props.bl_rna.properties:
-            if prop.identifier != "rna_type" and not prop.is_readonly:
-                props.property_unset(prop.identifier)
-        for name, value in job.get("bounce", {}).items():
-            if not hasattr(props, name):
-                raise ValueError(f"scene.bounce has no setting '{name}'")
-            setattr(props, name, value)
+        apply_settings(scene.bounce, job.get("bounce", {}))
+
+
+def apply_settings(props, values):
+    """scene.bounce at its defaults, then `values` ({setting: value}): a job's result does not depend on the jobs
+    before it."""
+    for prop in props.bl_rna.properties:
+        if prop.identifier != "rna_type" and not prop.is_readonly:
+            props.property_unset(prop.identifier)
+    for name, value in values.items():
+        if not hasattr(props, name):
+            raise ValueError(f"scene.bounce has no setting '{name}'")
+        setattr(props, name, value)
 
 
 def save_exr(scene, path):

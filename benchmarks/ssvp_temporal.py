@@ -27,7 +27,7 @@ import numpy as np
 from mathutils import Matrix, Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from blender_render import addon_module, bl_common  # noqa: E402
+from blender_render import addon_module, apply_settings, bl_common  # noqa: E402
 
 
 def relative_changes(previous, current, direct_previous, direct_current, covered):
@@ -80,14 +80,7 @@ def scene_centre(scene):
 
 
 def run(config, scene, motion, temporal, records):
-    props = scene.bounce
-    for prop in props.bl_rna.properties:
-        if prop.identifier != "rna_type" and not prop.is_readonly:
-            props.property_unset(prop.identifier)
-    for name, value in config.get("bounce", {}).items():
-        setattr(props, name, value)
-    props.method = "SSVP"
-    props.ssvp_temporal_seeding = temporal
+    apply_settings(scene.bounce, dict(config.get("bounce", {}), method="SSVP", ssvp_temporal_seeding=temporal))
     camera, sun = scene.camera, next(o for o in scene.objects if o.type == "LIGHT" and o.data.type == "SUN")
     camera_start, sun_start = camera.matrix_world.copy(), sun.matrix_world.copy()
     pivot = scene_centre(scene)

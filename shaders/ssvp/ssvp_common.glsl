@@ -10,8 +10,8 @@ layout(std140, binding = 5) uniform SsvpParams {
   int first_count, second_count, cluster_count, tiles_per_axis;
   int rsm_face_size, rsm_faces_x, rsm_faces_y, paraboloid_size;
   float rsm_texel_factor, texels_per_vpl, epsilon, length_scale;
-  float w1, w2, paraboloid_far, centre_offset;
-  int second_per_cluster, bounces, pattern_rotation, sample_index;
+  float w1, w2, paraboloid_far;
+  int second_per_cluster, bounces, pattern_rotation;
 } ssvp;
 
 struct Vpl {

@@ -19,11 +19,15 @@ Buffer make_buffer(std::size_t bytes, const void* data, GLbitfield flags) {
   return Buffer(id);
 }
 
-void upload_buffer(Buffer& buffer, std::size_t& capacity, std::size_t bytes, const void* data) {
+void reserve_buffer(Buffer& buffer, std::size_t& capacity, std::size_t bytes) {
   if (!buffer || bytes > capacity) {
     capacity = bytes < 256 ? 256 : bytes + bytes / 2;
     buffer = make_buffer(capacity, nullptr);
   }
+}
+
+void upload_buffer(Buffer& buffer, std::size_t& capacity, std::size_t bytes, const void* data) {
+  reserve_buffer(buffer, capacity, bytes);
   if (bytes) glNamedBufferSubData(buffer.id(), 0, static_cast<GLsizeiptr>(bytes), data);
 }
 

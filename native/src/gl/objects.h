@@ -53,7 +53,9 @@ using Query = Name<delete_query>;
 using Sampler = Name<delete_sampler>;
 
 Buffer make_buffer(std::size_t bytes, const void* data, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
-// Grows (never shrinks) `buffer` to hold `bytes`, then uploads. Returns the capacity.
+// Grows (never shrinks) `buffer` to hold `bytes`; `capacity` tracks its size. Contents are lost when it grows.
+void reserve_buffer(Buffer& buffer, std::size_t& capacity, std::size_t bytes);
+// reserve_buffer, then uploads `bytes` of `data`.
 void upload_buffer(Buffer& buffer, std::size_t& capacity, std::size_t bytes, const void* data);
 Texture make_texture_2d(GLenum internal_format, int width, int height, int levels = 1);
 Texture make_texture_cube(GLenum internal_format, int size);

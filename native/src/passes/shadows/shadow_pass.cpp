@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstring>
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gl/shader.h"

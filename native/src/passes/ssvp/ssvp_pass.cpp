@@ -26,6 +26,7 @@ constexpr GLuint kParaboloidPositionUnit = 13;
 constexpr GLuint kParaboloidNormalUnit = 14;
 constexpr GLuint kParaboloidAlbedoUnit = 15;
 constexpr int kMinSecondPerCluster = 32;  // Sec. III-D
+constexpr float kCentreLift = 1e-3f;      // a paraboloid map's centre off its surface, per unit of scene size
 constexpr double kParaboloidMemoryBudget = 512.0 * 1024.0 * 1024.0;
 constexpr int kParaboloidBytesPerTexel = 16 + 8 + 8 + 4;
 
@@ -35,10 +36,6 @@ struct GpuVpl {
 struct GpuCluster {
   glm::vec4 position_first, normal_count, tangent, bitangent;
 };
-
-void upload(gl::Buffer& buffer, std::size_t& capacity, std::size_t bytes, const void* data) {
-  gl::upload_buffer(buffer, capacity, std::max<std::size_t>(bytes, 16), data);
-}
 
 }  // namespace
 
@@ -83,9 +80,7 @@ void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers
   p.w1 = s.ssvp_position_weight;
   p.w2 = s.ssvp_normal_weight;
   p.paraboloid_far = 2.2f * p.length_scale;
-  p.centre_offset = 1e-3f * p.length_scale;
   p.bounces = std::clamp(s.bounces, 1, 2);
-  p.sample = static_cast<int32_t>(context.sample);
   // Sample 0 keeps one pattern, as it keeps one Hammersley set: a still scene gives the same frame again.
   p.pattern_rotation =
       context.sample == 0 ? 0 : static_cast<int32_t>(hash_combine(context.seed, context.sample) % 65536u);
@@ -160,16 +155,17 @@ void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLig
       context.sample == 0 ? glm::vec2(0.0f)
                           : r2_point(context.sample, glm::vec2(hash_to_unit(hash_combine(context.seed, 0x5353u)),
                                                                hash_to_unit(hash_combine(context.seed, 0x5354u))));
-  // The second bounce's disk points follow in the same buffer.
+  // The second bounce's disk points follow the first-bounce points in the same buffer, once cluster() knows
+  // how many of those found a surface.
   const int clusters_wanted = std::clamp(context.settings.ssvp_clusters, 1, 256);
   p.second_per_cluster =
       std::max(kMinSecondPerCluster,
                (std::clamp(context.settings.ssvp_second_vpls, 1, 1 << 16) + clusters_wanted - 1) / clusters_wanted);
-  std::vector<glm::vec2> points = ssvp::hammersley_set(n, rotation);
   disk_points_ = ssvp::disk_set(static_cast<uint32_t>(p.second_per_cluster), glm::vec2(rotation.y, rotation.x));
-  points.insert(points.end(), disk_points_.begin(), disk_points_.end());
-  upload(points_, points_capacity_, points.size() * sizeof(glm::vec2), points.data());
-  if (first_capacity_ < n * sizeof(GpuVpl)) upload(first_vpls_, first_capacity_, n * sizeof(GpuVpl), nullptr);
+  const std::vector<glm::vec2> points = ssvp::hammersley_set(n, rotation);
+  gl::reserve_buffer(points_, points_capacity_, (points.size() + disk_points_.size()) * sizeof(glm::vec2));
+  glNamedBufferSubData(points_.id(), 0, static_cast<GLsizeiptr>(points.size() * sizeof(glm::vec2)), points.data());
+  gl::reserve_buffer(first_vpls_, first_capacity_, n * sizeof(GpuVpl));
   glNamedBufferSubData(params_buffer_.id(), 0, sizeof p, &p);
 
   LightBlock block = make_light_block(light);
@@ -199,8 +195,9 @@ void SsvpPass::cluster(const RenderContext& context) {
     points.push_back({glm::vec3(v.position_cluster), glm::vec3(v.normal)});
   }
   const ssvp::ClusterMetric metric{p.w1, p.w2, p.length_scale};
-  const std::vector<ssvp::Cluster> seeds =
-      context.settings.ssvp_temporal_seeding ? previous_clusters_ : std::vector<ssvp::Cluster>{};
+  const std::span<const ssvp::Cluster> seeds = context.settings.ssvp_temporal_seeding
+                                                   ? std::span<const ssvp::Cluster>(previous_clusters_)
+                                                   : std::span<const ssvp::Cluster>();
   ssvp::Clustering clustering =
       ssvp::cluster_points(points, context.settings.ssvp_clusters, metric, seeds, hash_combine(context.seed, 0x4b4du));
   clusters_ = clustering.clusters;
@@ -219,7 +216,7 @@ void SsvpPass::cluster(const RenderContext& context) {
   for (std::size_t c = 0; c < clusters_.size(); ++c) {
     const ssvp::Cluster& cluster = clusters_[c];
     const glm::vec3 tangent = any_perpendicular(cluster.normal);
-    const glm::vec3 centre = cluster.position + cluster.normal * p.centre_offset;
+    const glm::vec3 centre = cluster.position + cluster.normal * (kCentreLift * p.length_scale);
     gpu_clusters[c] = {glm::vec4(centre, static_cast<float>(first)),
                        glm::vec4(cluster.normal, static_cast<float>(cluster.count)), glm::vec4(tangent, 0.0f),
                        glm::vec4(glm::cross(cluster.normal, tangent), 0.0f)};
@@ -234,14 +231,13 @@ void SsvpPass::cluster(const RenderContext& context) {
   p.cluster_count = static_cast<int32_t>(clusters_.size());
   p.second_count = p.bounces > 1 ? p.cluster_count * p.second_per_cluster : 0;
   second_count_ = static_cast<uint32_t>(p.second_count);
-  // The shaders find the disk points after the first `first_count` points: they move down past the samples
-  // that found no surface.
+  // The shaders find the disk points right after the `first_count` first-bounce points.
   glNamedBufferSubData(points_.id(), static_cast<GLintptr>(first_count_ * sizeof(glm::vec2)),
                        static_cast<GLsizeiptr>(disk_points_.size() * sizeof(glm::vec2)), disk_points_.data());
-  upload(first_vpls_, first_capacity_, sorted.size() * sizeof(GpuVpl), sorted.data());
-  upload(clusters_buffer_, clusters_capacity_, gpu_clusters.size() * sizeof(GpuCluster), gpu_clusters.data());
-  if (second_capacity_ < second_count_ * sizeof(GpuVpl))
-    upload(second_vpls_, second_capacity_, second_count_ * sizeof(GpuVpl), nullptr);
+  gl::upload_buffer(first_vpls_, first_capacity_, sorted.size() * sizeof(GpuVpl), sorted.data());
+  gl::upload_buffer(clusters_buffer_, clusters_capacity_, gpu_clusters.size() * sizeof(GpuCluster),
+                    gpu_clusters.data());
+  gl::reserve_buffer(second_vpls_, second_capacity_, second_count_ * sizeof(GpuVpl));
   glNamedBufferSubData(params_buffer_.id(), 0, sizeof p, &p);
   gl::check("clustering the first-bounce VPLs");
 }

@@ -46,8 +46,8 @@ struct SsvpParams {
   float texels_per_vpl;    // RSM texels / first-bounce VPLs
   float epsilon;           // distance clamp in world units
   float length_scale;      // the scene's diameter (Eq. 2)
-  float w1, w2, paraboloid_far, centre_offset;
-  int32_t second_per_cluster, bounces, pattern_rotation, sample;
+  float w1, w2, paraboloid_far;
+  int32_t second_per_cluster, bounces, pattern_rotation;
 };
 
 class SsvpPass {

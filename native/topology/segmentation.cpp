@@ -1,0 +1,282 @@
+#include "segmentation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <set>
+#include <utility>
+
+#include <glm/geometric.hpp>
+
+namespace bounce::topology {
+
+namespace {
+
+// Distance from p to the straight line through a and b (to a itself when they coincide).
+float distance_to_line(glm::vec3 p, glm::vec3 a, glm::vec3 b) {
+  const glm::vec3 ab = b - a;
+  const float length2 = glm::dot(ab, ab);
+  if (length2 <= 0.0f) return glm::distance(p, a);
+  return glm::length(glm::cross(p - a, ab)) / std::sqrt(length2);
+}
+
+// The skeleton's lines: node sequences whose ends are topology nodes and whose inner nodes are not.
+std::vector<std::vector<uint32_t>> lines_between(const Graph& graph, const std::vector<NodeKind>& kind) {
+  std::vector<std::vector<uint32_t>> lines;
+  std::vector<uint8_t> walked(graph.node_count(), 0);
+  for (uint32_t t = 0; t < graph.node_count(); ++t) {
+    if (kind[t] != NodeKind::Topology) continue;
+    for (uint32_t w : graph.neighbours(t)) {
+      if (kind[w] == NodeKind::Topology) {
+        if (t < w) lines.push_back({t, w});
+        continue;
+      }
+      if (walked[w]) continue;
+      std::vector<uint32_t> line{t};
+      uint32_t previous = t, current = w;
+      while (kind[current] != NodeKind::Topology) {
+        walked[current] = 1;
+        line.push_back(current);
+        const auto next = graph.neighbours(current);
+        const uint32_t following = next[0] == previous ? next[1] : next[0];
+        previous = current;
+        current = following;
+      }
+      line.push_back(current);
+      lines.push_back(std::move(line));
+    }
+  }
+  return lines;
+}
+
+// Splits line[a..b] at the inner node `pick` chooses (or none: -1), recursively, marking it `as`.
+template <typename Pick>
+void split(const std::vector<uint32_t>& line, std::vector<NodeKind>& kind, NodeKind as, Pick&& pick) {
+  std::vector<std::pair<int, int>> pieces;
+  int previous = 0;
+  for (int i = 1; i < int(line.size()); ++i) {
+    if (i + 1 < int(line.size()) && kind[line[size_t(i)]] == NodeKind::Removed) continue;
+    pieces.emplace_back(previous, i);
+    previous = i;
+  }
+  while (!pieces.empty()) {
+    const auto [a, b] = pieces.back();
+    pieces.pop_back();
+    if (b - a < 2) continue;
+    const int at = pick(a, b);
+    if (at < 0) continue;
+    kind[line[size_t(at)]] = as;
+    pieces.emplace_back(a, at);
+    pieces.emplace_back(at, b);
+  }
+}
+
+}  // namespace
+
+SegmentedSkeleton segment(const Skeleton& skeleton, float alpha) {
+  const Graph& graph = skeleton.graph;
+  const size_t n = graph.node_count();
+  SegmentedSkeleton out;
+  out.kind.assign(n, NodeKind::Removed);
+  for (uint32_t v = 0; v < n; ++v)
+    if (graph.degree(v) != 2) out.kind[v] = NodeKind::Topology;
+  size_t component_count = 0;
+  const std::vector<uint32_t> component = graph_components(graph, &component_count);
+  std::vector<uint32_t> widest(component_count, kNoNode);
+  std::vector<uint8_t> anchored(component_count, 0);
+  for (uint32_t v = 0; v < n; ++v) {
+    const uint32_t c = component[v];
+    anchored[c] |= out.kind[v] == NodeKind::Topology;
+    if (widest[c] == kNoNode || skeleton.radius[v] > skeleton.radius[widest[c]]) widest[c] = v;
+  }
+  for (size_t c = 0; c < component_count; ++c)
+    if (!anchored[c]) out.kind[widest[c]] = NodeKind::Topology;
+
+  const auto& p = skeleton.position;
+  const auto& r = skeleton.radius;
+  const std::vector<std::vector<uint32_t>> lines = lines_between(graph, out.kind);
+  for (const auto& line : lines) {
+    split(line, out.kind, NodeKind::Curvature, [&](int a, int b) {
+      int best = -1;
+      float best_curvature = 1.0f;
+      for (int i = a + 1; i < b; ++i) {
+        const uint32_t v = line[size_t(i)];
+        const float curvature = distance_to_line(p[v], p[line[size_t(a)]], p[line[size_t(b)]]) / r[v];
+        if (curvature > best_curvature) best_curvature = curvature, best = i;
+      }
+      return best;
+    });
+  }
+  for (const auto& line : lines) {
+    split(line, out.kind, NodeKind::Coverage, [&](int a, int b) {
+      const uint32_t ea = line[size_t(a)], eb = line[size_t(b)];
+      int best = -1;
+      float most_outside = 0.0f;
+      for (int i = a + 1; i < b; ++i) {
+        const uint32_t v = line[size_t(i)];
+        const float outside = std::min(glm::distance(p[v], p[ea]) - r[ea], glm::distance(p[v], p[eb]) - r[eb]);
+        if (outside > most_outside) most_outside = outside, best = i;
+      }
+      return best;
+    });
+  }
+
+  for (const auto& line : lines) {
+    split(line, out.kind, NodeKind::Neck, [&](int a, int b) {
+      int best = a + 1;
+      for (int i = a + 2; i < b; ++i)
+        if (r[line[size_t(i)]] < r[line[size_t(best)]]) best = i;
+      const float ends = std::min(r[line[size_t(a)]], r[line[size_t(b)]]);
+      return r[line[size_t(best)]] < (1.0f - alpha) * ends ? best : -1;
+    });
+  }
+
+  // Cycles: a loop needs two inner nodes, a second line between the same two nodes one.
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  std::vector<std::vector<int>> kept(lines.size());
+  for (size_t l = 0; l < lines.size(); ++l) {
+    const auto& line = lines[l];
+    const int last = int(line.size()) - 1;
+    int inner = 0;
+    for (int i = 1; i < last; ++i) inner += out.kind[line[size_t(i)]] != NodeKind::Removed;
+    if (line.front() == line.back() && inner < 2) {
+      out.kind[line[size_t(std::max(1, last / 3))]] = NodeKind::Topology;
+      out.kind[line[size_t(std::max(1, 2 * last / 3))]] = NodeKind::Topology;
+    } else if (inner == 0 && last >= 2) {
+      const auto key = std::minmax(line.front(), line.back());
+      if (!edges.insert(key).second) out.kind[line[size_t(last / 2)]] = NodeKind::Topology;
+    }
+    for (int i = 0; i <= last; ++i)
+      if (out.kind[line[size_t(i)]] != NodeKind::Removed) kept[l].push_back(i);
+  }
+
+  out.segmented_of.assign(n, kNoNode);
+  for (uint32_t v = 0; v < n; ++v) {
+    if (out.kind[v] == NodeKind::Removed) continue;
+    out.segmented_of[v] = uint32_t(out.original.size());
+    out.original.push_back(v);
+  }
+  for (size_t l = 0; l < lines.size(); ++l) {
+    const auto& line = lines[l];
+    for (size_t k = 0; k + 1 < kept[l].size(); ++k) {
+      const int a = kept[l][k], b = kept[l][k + 1];
+      const uint32_t sa = out.segmented_of[line[size_t(a)]], sb = out.segmented_of[line[size_t(b)]];
+      if (sa != sb) {
+        out.edges.emplace_back(sa, sb);
+        out.edge_paths.emplace_back(line.begin() + a, line.begin() + b + 1);
+      }
+      for (int i = a + 1; i < b; ++i) {
+        const uint32_t v = line[size_t(i)];
+        out.segmented_of[v] =
+            glm::distance(p[v], p[line[size_t(a)]]) <= glm::distance(p[v], p[line[size_t(b)]]) ? sa : sb;
+      }
+    }
+  }
+  out.graph = Graph::from_edges(out.original.size(), out.edges);
+  return out;
+}
+
+std::vector<uint32_t> visibility_clusters(const Skeleton& skeleton, const SegmentedSkeleton& segmented, float alpha,
+                                          uint32_t* count) {
+  const size_t n = segmented.original.size();
+  const auto position = [&](uint32_t s) { return skeleton.position[segmented.original[s]]; };
+  const auto radius = [&](uint32_t s) { return skeleton.radius[segmented.original[s]]; };
+  std::vector<uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return radius(a) > radius(b); });
+
+  const auto similar = [&](uint32_t s, float largest) {
+    return segmented.kind[segmented.original[s]] != NodeKind::Curvature &&
+           std::abs(radius(s) - largest) <= alpha * largest;
+  };
+  std::vector<uint32_t> cluster(n, kNoNode), stack, ball;
+  std::vector<uint32_t> seen(n, kNoNode);  // the node whose ball walk last reached it
+  uint32_t clusters = 0;
+  for (uint32_t seed : order) {
+    if (cluster[seed] != kNoNode) continue;
+    const uint32_t c = clusters++;
+    float largest = radius(seed);
+    cluster[seed] = c;
+    stack.assign(1, seed);
+    while (!stack.empty()) {
+      const uint32_t m = stack.back();
+      stack.pop_back();
+      largest = std::max(largest, radius(m));
+      // A curvature node spreads its cluster no more than it joins one: a bend seeds a cluster of its own.
+      const bool bend = segmented.kind[segmented.original[m]] == NodeKind::Curvature;
+      for (uint32_t w : segmented.graph.neighbours(m)) {
+        if (bend || cluster[w] != kNoNode || !similar(w, largest)) continue;
+        cluster[w] = c;
+        stack.push_back(w);
+      }
+      // The nodes inside m's maximal ball that a walk from m reaches without leaving it.
+      seen[m] = m;
+      ball.assign(1, m);
+      while (!ball.empty()) {
+        const uint32_t u = ball.back();
+        ball.pop_back();
+        for (uint32_t w : segmented.graph.neighbours(u)) {
+          if (seen[w] == m || glm::distance(position(w), position(m)) > radius(m)) continue;
+          seen[w] = m;
+          ball.push_back(w);
+          if (cluster[w] != kNoNode) continue;
+          cluster[w] = c;
+          if (similar(w, largest)) stack.push_back(w);
+        }
+      }
+    }
+  }
+  // A cluster with no local maximum of the maximal ball is a passage between clusters (the approach to a
+  // doorway, whose balls grow toward both rooms): its nodes follow the steepest ascent of the radius into the
+  // clusters it joins.
+  std::vector<uint8_t> kept(clusters, 0);
+  const auto steepest = [&](uint32_t s) {
+    uint32_t best = s;
+    for (uint32_t w : segmented.graph.neighbours(s))
+      if (radius(w) > radius(best)) best = w;
+    return best;
+  };
+  for (uint32_t s = 0; s < n; ++s)
+    if (steepest(s) == s) kept[cluster[s]] = 1;
+  std::vector<uint32_t> merged(n);
+  for (uint32_t s = 0; s < n; ++s) {
+    uint32_t top = s;
+    while (!kept[cluster[top]]) top = steepest(top);
+    merged[s] = cluster[top];
+  }
+  std::vector<uint32_t> renumber(clusters, kNoNode);
+  uint32_t used = 0;
+  for (uint32_t& c : merged) {
+    if (renumber[c] == kNoNode) renumber[c] = used++;
+    c = renumber[c];
+  }
+  if (count) *count = used;
+  return merged;
+}
+
+std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkeleton& segmented,
+                                   const std::vector<uint32_t>& cluster_of) {
+  std::vector<Gate> gates;
+  for (size_t e = 0; e < segmented.edges.size(); ++e) {
+    const auto [a, b] = segmented.edges[e];
+    if (cluster_of[a] == cluster_of[b]) continue;
+    const std::vector<uint32_t>& path = segmented.edge_paths[e];
+    size_t neck = 0;
+    for (size_t i = 1; i < path.size(); ++i)
+      if (skeleton.radius[path[i]] < skeleton.radius[path[neck]]) neck = i;
+    // The path's direction at the neck, over a few nodes so voxel steps do not tilt it.
+    const size_t before = neck >= 2 ? neck - 2 : 0, after = std::min(path.size() - 1, neck + 2);
+    glm::vec3 along = skeleton.position[path[after]] - skeleton.position[path[before]];
+    if (glm::dot(along, along) <= 0.0f) along = skeleton.position[path.back()] - skeleton.position[path.front()];
+    Gate gate;
+    gate.centre = skeleton.position[path[neck]];
+    gate.normal = glm::normalize(along);
+    gate.radius = skeleton.radius[path[neck]];
+    gate.clusters = {cluster_of[a], cluster_of[b]};
+    gate.nodes = {a, b};
+    gates.push_back(gate);
+  }
+  return gates;
+}
+
+}  // namespace bounce::topology

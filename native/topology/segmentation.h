@@ -1,0 +1,66 @@
+// The segmented skeleton, the visibility clusters and the visibility gates (Noël and Biri 2014, Sec. IV.B-C).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "skeleton.h"
+
+namespace bounce::topology {
+
+enum class NodeKind : uint8_t {
+  Removed,    // not in the segmented skeleton
+  Topology,   // degree other than 2, or kept so that a cycle keeps its nodes
+  Curvature,  // curv(n) > 1 (Sec. IV.B.1)
+  Coverage,   // outside both maximal balls at its line's ends (Sec. IV.B.1)
+  Neck,       // a maximal ball smaller than (1 - alpha) times both of its line's ends' (addition, see segment())
+};
+
+struct SegmentedSkeleton {
+  std::vector<NodeKind> kind;          // per original node
+  std::vector<uint32_t> original;      // per segmented node: its original node
+  std::vector<uint32_t> segmented_of;  // per original node: the nearest kept end of its line
+  Graph graph;                         // over segmented nodes
+  // Each segmented edge once, with the original nodes along the skeleton from its first end to its second.
+  std::vector<std::pair<uint32_t, uint32_t>> edges;
+  std::vector<std::vector<uint32_t>> edge_paths;
+};
+
+// Sec. IV.B.1: topology nodes; lines between them; curvature nodes, recursively; then coverage nodes,
+// recursively. A cycle with no node of degree other than 2 gets its widest node as a topology node; a line
+// that would become a second edge between the same two nodes, or a loop, keeps inner nodes so the segmented
+// graph has the skeleton's cycles. Addition: last, necks, recursively: the inner node of smallest maximal
+// ball when that is below (1 - alpha) times both ends' balls. The paper removes nodes so that "important
+// variations in the radius of maximal balls" are not lost, but its two tests keep none across a doorway in a
+// thin wall when the balls of both rooms reach through it; clustering needs the neck to cut the rooms apart.
+SegmentedSkeleton segment(const Skeleton& skeleton, float alpha);
+
+// Sec. IV.B.2: greedy, by decreasing maximal ball. A cluster takes the neighbours of its nodes that are not
+// curvature nodes and whose radius is within alpha of the cluster's largest, and the nodes inside a member's
+// maximal ball reachable from it. Departure: a node taken for being inside a ball grows the cluster further
+// only if it passes the neighbour test too; otherwise a doorway node inside a room's ball would carry the
+// room's cluster into the next room. Addition: a cluster with no local maximum of the maximal ball (a passage,
+// such as the approach to a doorway) is dissolved into the clusters its nodes reach by steepest ascent of the
+// radius. Returns a cluster per segmented node, numbered from 0 in order of first node.
+std::vector<uint32_t> visibility_clusters(const Skeleton& skeleton, const SegmentedSkeleton& segmented, float alpha,
+                                          uint32_t* count = nullptr);
+
+// Sec. IV.C: a disk on each segmented edge whose ends lie in different clusters. Departure: the paper puts it at
+// the middle of the edge, radius the smaller of the two maximal balls; here it sits at the neck of the edge's
+// skeleton path (its node of smallest maximal ball), orthogonal to the path there, with that ball's radius
+// (never larger than the paper's). When a doorway node ends the edge, the middle lies in the next room and
+// the paper's disk covers a wall; the neck is the doorway.
+struct Gate {
+  glm::vec3 centre{0.0f};
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};  // from clusters[0]'s side to clusters[1]'s
+  float radius = 0.0f;
+  std::array<uint32_t, 2> clusters{};
+  std::array<uint32_t, 2> nodes{};  // segmented nodes at the edge's ends
+};
+std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkeleton& segmented,
+                                   const std::vector<uint32_t>& cluster_of);
+
+}  // namespace bounce::topology

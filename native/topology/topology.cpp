@@ -1,0 +1,113 @@
+#include "topology.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include <glm/geometric.hpp>
+
+#include "distance_transform.h"
+#include "voxelize.h"
+
+namespace bounce::topology {
+
+const char* build_stage_name(BuildStage stage) {
+  switch (stage) {
+    case BuildStage::Voxelize:
+      return "voxelize";
+    case BuildStage::DistanceTransform:
+      return "distance transform";
+    case BuildStage::Thinning:
+      return "thinning";
+    case BuildStage::Segmentation:
+      return "segmentation";
+    case BuildStage::Clusters:
+      return "visibility clusters";
+    case BuildStage::Gates:
+      return "visibility gates";
+    case BuildStage::Count:
+      break;
+  }
+  return "?";
+}
+
+uint32_t Topology::node_at(glm::vec3 p, glm::vec3 n) const {
+  const GridShape& shape = grid.shape;
+  if (shape.empty() || !std::isfinite(p.x + p.y + p.z)) return kNoNode;
+  if (!std::isfinite(n.x + n.y + n.z)) n = glm::vec3(0.0f);
+  const auto node_in = [&](glm::ivec3 v) { return shape.inside(v) ? skeleton.voxel_node[shape.index(v)] : kNoNode; };
+  for (double side : {1.0, -1.0}) {
+    for (double step = 0.5; step <= 2.0 && glm::dot(n, n) > 0.0f; step += 0.5) {
+      const uint32_t node = node_in(shape.voxel_at(glm::dvec3(p) + side * step * shape.voxel_size * glm::dvec3(n)));
+      if (node != kNoNode) return node;
+    }
+  }
+  const glm::ivec3 v = shape.voxel_at(glm::dvec3(p));
+  uint32_t nearest = node_in(v);
+  double best = 1e300;
+  if (nearest != kNoNode) return nearest;
+  for (const glm::ivec3& o : neighbour_offsets()) {
+    const uint32_t node = node_in(v + o);
+    const double d = glm::distance(shape.centre(v + o), glm::dvec3(p));
+    if (node != kNoNode && d < best) nearest = node, best = d;
+  }
+  return nearest;
+}
+
+uint32_t Topology::cluster_at(glm::vec3 p, glm::vec3 n) const { return cluster_of_node(node_at(p, n)); }
+
+std::string Topology::summary() const {
+  std::string s;
+  char line[160];
+  std::snprintf(line, sizeof line, "grid %dx%dx%d (%.4g per voxel), %zu empty voxels\n", grid.shape.dims.x,
+                grid.shape.dims.y, grid.shape.dims.z, grid.shape.voxel_size, grid.empty_count());
+  s += line;
+  std::snprintf(line, sizeof line,
+                "skeleton %zu voxels (%zu pruned), %zu nodes, %zu edges; segmented %zu nodes; %u clusters, %zu gates\n",
+                skeleton.voxels, skeleton.pruned_voxels, skeleton.graph.node_count(), skeleton.graph.edge_count(),
+                segmented.original.size(), cluster_count, gates.size());
+  s += line;
+  for (size_t i = 0; i < stage_ms.size(); ++i) {
+    std::snprintf(line, sizeof line, "  %-20s %9.1f ms\n", build_stage_name(BuildStage(i)), stage_ms[i]);
+    s += line;
+  }
+  return s;
+}
+
+Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress) {
+  Topology t;
+  // Rough shares of the total time per stage, for the progress bar.
+  constexpr float kStart[] = {0.0f, 0.1f, 0.2f, 0.9f, 0.95f, 0.98f, 1.0f};
+  auto stage_start = std::chrono::steady_clock::now();
+  BuildStage current = BuildStage::Voxelize;
+  const auto begin = [&](BuildStage stage) {
+    const auto now = std::chrono::steady_clock::now();
+    if (stage != BuildStage::Voxelize) {
+      t.stage_ms[size_t(current)] = std::chrono::duration<double, std::milli>(now - stage_start).count();
+    }
+    stage_start = now;
+    current = stage;
+    if (progress && stage != BuildStage::Count && !progress(stage, kStart[size_t(stage)])) throw Cancelled{};
+  };
+  const CancelCheck cancelled = [&] { return progress && !progress(current, kStart[size_t(current)]); };
+
+  begin(BuildStage::Voxelize);
+  const int resolution = std::clamp(settings.resolution, 1, kMaxResolution);
+  t.grid = voxelize(soup, fit_grid(soup, resolution, settings.margin));
+  begin(BuildStage::DistanceTransform);
+  const std::vector<uint32_t> d2 = squared_distance_transform(t.grid);
+  begin(BuildStage::Thinning);
+  t.skeleton = skeletonize(t.grid, d2, cancelled);
+  begin(BuildStage::Segmentation);
+  const float alpha = std::clamp(settings.alpha, 0.0f, 1.0f);
+  t.segmented = segment(t.skeleton, alpha);
+  begin(BuildStage::Clusters);
+  t.cluster_of = visibility_clusters(t.skeleton, t.segmented, alpha, &t.cluster_count);
+  begin(BuildStage::Gates);
+  t.gates = visibility_gates(t.skeleton, t.segmented, t.cluster_of);
+  begin(BuildStage::Count);
+  return t;
+}
+
+}  // namespace bounce::topology

@@ -1,0 +1,62 @@
+// The topology of a scene's empty space: voxels, skeleton, visibility clusters and gates (Noël and Biri 2014,
+// Sec. IV). A module of its own, on the CPU, knowing nothing of rendering: the topology method's renderer
+// uses it, and it is the visibility structure FLC and SSVP can borrow.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "segmentation.h"
+#include "skeleton.h"
+#include "voxel_grid.h"
+
+namespace bounce::topology {
+
+struct Settings {
+  int resolution = 128;  // voxels along the scene's longest axis (the paper: 256)
+  int margin = 2;        // empty voxels around the scene's bounds, inside the resolution
+  float alpha = 0.2f;    // similarity of maximal balls within a cluster (Sec. IV.B.2; the paper: 20 %)
+};
+
+inline constexpr int kMaxResolution = 256;  // the paper's grid; 256^3 cells take about 1 GB while building
+
+enum class BuildStage { Voxelize, DistanceTransform, Thinning, Segmentation, Clusters, Gates, Count };
+const char* build_stage_name(BuildStage stage);
+
+// Called at the start of each stage and during long ones; returns false to cancel (build() then throws
+// Cancelled). fraction: of the whole precomputation, roughly by time.
+using Progress = std::function<bool(BuildStage stage, float fraction)>;
+
+struct Topology {
+  VoxelGrid grid;
+  Skeleton skeleton;
+  SegmentedSkeleton segmented;
+  std::vector<uint32_t> cluster_of;  // per segmented node
+  uint32_t cluster_count = 0;
+  std::vector<Gate> gates;
+  std::array<double, size_t(BuildStage::Count)> stage_ms{};
+
+  // The skeleton node nearest, through the empty space, to a point on a surface with normal n (either side):
+  // the first empty voxel from p along n, then along -n, then the nearest empty neighbour of p's voxel.
+  // kNoNode when p is not finite, outside the grid, or walled in.
+  uint32_t node_at(glm::vec3 p, glm::vec3 n) const;
+  // The visibility cluster of that node, kNoNode likewise.
+  uint32_t cluster_at(glm::vec3 p, glm::vec3 n) const;
+  uint32_t cluster_of_node(uint32_t node) const {
+    return node == kNoNode ? kNoNode : cluster_of[segmented.segmented_of[node]];
+  }
+  // Stage times and counts, one line each.
+  std::string summary() const;
+};
+
+// The whole precomputation for the triangle soup (vertices 3i, 3i + 1, 3i + 2), in world space. Settings out of
+// range are clamped (resolution to [1, kMaxResolution], alpha to [0, 1]). Throws Cancelled.
+Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress = {});
+
+}  // namespace bounce::topology

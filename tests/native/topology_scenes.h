@@ -1,0 +1,83 @@
+// Synthetic architecture for the topology tests: closed rooms made of thin walls (quads, two triangles each).
+#pragma once
+
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace bounce::test {
+
+// Triangle soup builder.
+struct Soup {
+  std::vector<glm::vec3> vertices;
+
+  // The axis-aligned rectangle lo..hi, flat along `axis` (lo[axis] == hi[axis]).
+  Soup& quad(glm::vec3 lo, glm::vec3 hi, int axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    glm::vec3 c[4] = {lo, lo, lo, lo};
+    c[1][u] = hi[u];
+    c[2][u] = hi[u], c[2][v] = hi[v];
+    c[3][v] = hi[v];
+    for (int i : {0, 1, 2, 0, 2, 3}) vertices.push_back(c[i]);
+    return *this;
+  }
+  // The six faces of the box lo..hi.
+  Soup& box(glm::vec3 lo, glm::vec3 hi) {
+    for (int axis = 0; axis < 3; ++axis) {
+      glm::vec3 top = hi, bottom = lo;
+      top[axis] = lo[axis];
+      quad(lo, top, axis);
+      bottom[axis] = hi[axis];
+      quad(bottom, hi, axis);
+    }
+    return *this;
+  }
+  // A wall in the plane `axis` = at, over lo..hi of the other axes, with a rectangular opening o_lo..o_hi.
+  Soup& wall_with_opening(int axis, float at, glm::vec3 lo, glm::vec3 hi, glm::vec3 o_lo, glm::vec3 o_hi) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    lo[axis] = hi[axis] = o_lo[axis] = o_hi[axis] = at;
+    const auto piece = [&](float u0, float u1, float v0, float v1) {
+      if (u1 <= u0 || v1 <= v0) return;
+      glm::vec3 a = lo, b = lo;
+      a[u] = u0, a[v] = v0, b[u] = u1, b[v] = v1;
+      quad(a, b, axis);
+    };
+    piece(lo[u], o_lo[u], lo[v], hi[v]);
+    piece(o_hi[u], hi[u], lo[v], hi[v]);
+    piece(o_lo[u], o_hi[u], lo[v], o_lo[v]);
+    piece(o_lo[u], o_hi[u], o_hi[v], hi[v]);
+    return *this;
+  }
+};
+
+// A closed 10 x 6 x 4 room.
+inline Soup closed_box() { return Soup().box({0, 0, 0}, {10, 6, 4}); }
+
+// Two 10 x 10 x 4 rooms side by side along x, joined by a doorway 2 wide and 3 high in the wall x = 10,
+// centred in y.
+inline constexpr glm::vec3 kDoorLo{10.0f, 4.0f, 0.0f}, kDoorHi{10.0f, 6.0f, 3.0f};
+inline Soup two_rooms() {
+  Soup s;
+  s.box({0, 0, 0}, {20, 10, 4});
+  s.wall_with_opening(0, 10.0f, {0, 0, 0}, {0, 10, 4}, kDoorLo, kDoorHi);
+  return s;
+}
+
+// A square ring corridor: a closed 12 x 12 x 3 hall with a closed 6 x 6 block in its middle.
+inline Soup ring_corridor() {
+  Soup s;
+  s.box({0, 0, 0}, {12, 12, 3});
+  s.box({3, 3, 0}, {9, 9, 3});
+  return s;
+}
+
+// A U-shaped corridor 2 wide: a closed 12 x 10 x 3 hall with a 8 x 8 block against one long side, so the
+// corridor runs up x = 0..2, across y = 8..10 and down x = 10..12.
+inline Soup u_corridor() {
+  Soup s;
+  s.box({0, 0, 0}, {12, 10, 3});
+  s.box({2, 0, 0}, {10, 8, 3});
+  return s;
+}
+
+}  // namespace bounce::test

@@ -1,0 +1,314 @@
+// The topology of the empty space: voxels, distance transform, skeleton, segmentation, clusters and gates.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+
+#include <glm/geometric.hpp>
+
+#include "embree/embree_device.h"
+#include "topology/distance_transform.h"
+#include "topology/local_topology.h"
+#include "topology/topology.h"
+#include "topology/voxelize.h"
+#include "topology_scenes.h"
+
+namespace bounce::topology {
+namespace {
+
+using test::Soup;
+
+Topology build_at(const Soup& soup, int resolution) {
+  Settings settings;
+  settings.resolution = resolution;
+  return build(soup.vertices, settings);
+}
+
+// Nodes, segmented nodes and clusters of the skeleton component holding point p.
+struct Component {
+  uint32_t label = kNoNode;
+  std::vector<uint32_t> label_of;  // per original node
+  size_t clusters = 0;
+  size_t nodes = 0;
+  std::vector<uint8_t> has_cluster;  // per cluster
+  std::vector<Gate> gates;           // between clusters of the component
+};
+Component component_at(const Topology& t, glm::vec3 p) {
+  Component c;
+  c.label_of = graph_components(t.skeleton.graph);
+  const uint32_t node = t.node_at(p, glm::vec3(0.0f));
+  if (node == kNoNode) return c;
+  c.label = c.label_of[node];
+  c.has_cluster.assign(t.cluster_count, 0);
+  for (uint32_t s = 0; s < t.segmented.original.size(); ++s) {
+    if (c.label_of[t.segmented.original[s]] != c.label) continue;
+    ++c.nodes;
+    if (!c.has_cluster[t.cluster_of[s]]) c.has_cluster[t.cluster_of[s]] = 1, ++c.clusters;
+  }
+  for (const Gate& gate : t.gates)
+    if (c.has_cluster[gate.clusters[0]]) c.gates.push_back(gate);
+  return c;
+}
+
+void expect_skeleton_keeps_topology(const Topology& t) {
+  const Betti space = empty_space_betti(t.grid);
+  const Betti graph = graph_betti(t.skeleton.graph);
+  EXPECT_EQ(graph.components, space.components);
+  EXPECT_EQ(graph.tunnels, space.tunnels);
+  const Betti segmented = graph_betti(t.segmented.graph);
+  EXPECT_EQ(segmented.components, space.components);
+  EXPECT_EQ(segmented.tunnels, space.tunnels);
+}
+
+TEST(TopologyDistance, ExactAgainstBruteForceOnRandomGrids) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 6; ++trial) {
+    VoxelGrid grid;
+    grid.shape.dims = {int(5 + rng() % 14), int(5 + rng() % 14), int(5 + rng() % 14)};
+    grid.solid.assign(grid.shape.padded_count(), 1);
+    const float density = 0.02f + 0.1f * float(trial);
+    std::vector<glm::ivec3> solid;
+    for (size_t i = 0; i < grid.solid.size(); ++i) {
+      const glm::ivec3 v = grid.shape.voxel_of_index(i);
+      if (grid.shape.inside(v)) grid.solid[i] = std::uniform_real_distribution<float>()(rng) < density;
+      if (grid.solid[i]) solid.push_back(v);
+    }
+    const std::vector<uint32_t> d2 = squared_distance_transform(grid);
+    for (size_t i = 0; i < grid.solid.size(); ++i) {
+      const glm::ivec3 v = grid.shape.voxel_of_index(i);
+      uint32_t best = UINT32_MAX;
+      for (const glm::ivec3& s : solid) {
+        const glm::ivec3 d = s - v;
+        best = std::min(best, uint32_t(d.x * d.x + d.y * d.y + d.z * d.z));
+      }
+      ASSERT_EQ(d2[i], best) << "trial " << trial << " voxel " << v.x << "," << v.y << "," << v.z;
+    }
+  }
+}
+
+TEST(TopologyLocal, SimpleAndIsthmusPoints) {
+  const auto& o = neighbour_offsets();
+  const auto mask = [&](auto&& in) {
+    uint32_t m = 0;
+    for (int k = 0; k < 26; ++k)
+      if (in(o[size_t(k)])) m |= 1u << k;
+    return m;
+  };
+  // Half space below: simple.
+  EXPECT_TRUE(classify_neighbourhood(mask([](glm::ivec3 d) { return d.z <= 0; })).simple());
+  // A line along x: an isthmus, not simple.
+  const LocalTopology line = classify_neighbourhood(mask([](glm::ivec3 d) { return d.y == 0 && d.z == 0; }));
+  EXPECT_TRUE(line.isthmus());
+  EXPECT_FALSE(line.simple());
+  // The end of a line: simple.
+  EXPECT_TRUE(classify_neighbourhood(mask([](glm::ivec3 d) { return d == glm::ivec3(1, 0, 0); })).simple());
+  // A plane: one object component, two background components.
+  const LocalTopology plane = classify_neighbourhood(mask([](glm::ivec3 d) { return d.z == 0; }));
+  EXPECT_EQ(plane.object_components, 1);
+  EXPECT_EQ(plane.background_components, 2);
+  // Inside: no background neighbour at all, not simple.
+  EXPECT_FALSE(classify_neighbourhood((1u << 26) - 1).simple());
+}
+
+TEST(TopologyVoxelize, ThinDiagonalWallDoesNotLeak) {
+  // A wall at 45 degrees through the whole grid splits the empty space in two, however thin.
+  Soup s;
+  s.vertices = {{0, 0, 0}, {10, 10, 0}, {10, 10, 10}, {0, 0, 0}, {10, 10, 10}, {0, 0, 10}};
+  s.box({0, 0, 0}, {10, 10, 10});
+  const VoxelGrid grid = voxelize(s.vertices, fit_grid(s.vertices, 37, 2));
+  EXPECT_EQ(empty_space_betti(grid).components, 3u);  // two halves inside, the outside
+}
+
+TEST(TopologyScenes, ClosedBoxIsOneClusterWithoutGates) {
+  const Topology t = build_at(test::closed_box(), 64);
+  expect_skeleton_keeps_topology(t);
+  const Component inside = component_at(t, {5, 3, 2});
+  ASSERT_NE(inside.label, kNoNode);
+  EXPECT_EQ(inside.clusters, 1u);
+  EXPECT_TRUE(inside.gates.empty()) << t.summary();
+}
+
+class TopologyTwoRooms : public testing::TestWithParam<int> {};
+
+TEST_P(TopologyTwoRooms, AreTwoClustersWithAGateInTheDoorway) {
+  const Topology t = build_at(test::two_rooms(), GetParam());
+  expect_skeleton_keeps_topology(t);
+  const Component inside = component_at(t, {5, 5, 2});
+  ASSERT_NE(inside.label, kNoNode);
+  EXPECT_EQ(inside.clusters, 2u) << t.summary();
+  EXPECT_NE(t.cluster_at({5, 5, 2}, {}), t.cluster_at({15, 5, 2}, {}));
+  ASSERT_EQ(inside.gates.size(), 1u) << t.summary();
+  const Gate& gate = inside.gates[0];
+  const float h = float(t.grid.shape.voxel_size);
+  // Its centre within the opening (the wall is two voxels thick), its radius no larger than the opening.
+  EXPECT_NEAR(gate.centre.x, test::kDoorLo.x, 2.0f * h);
+  EXPECT_GT(gate.centre.y, test::kDoorLo.y);
+  EXPECT_LT(gate.centre.y, test::kDoorHi.y);
+  EXPECT_GT(gate.centre.z, test::kDoorLo.z);
+  EXPECT_LT(gate.centre.z, test::kDoorHi.z);
+  EXPECT_LE(gate.radius, 0.5f * (test::kDoorHi.y - test::kDoorLo.y));
+  EXPECT_GT(std::abs(gate.normal.x), 0.85f);  // across the wall, within the tilt of voxel steps
+}
+
+INSTANTIATE_TEST_SUITE_P(Resolutions, TopologyTwoRooms, testing::Values(64, 96, 128, 192, 256));
+
+TEST(TopologyScenes, RingCorridorHasExactlyOneCycle) {
+  const Topology t = build_at(test::ring_corridor(), 96);
+  expect_skeleton_keeps_topology(t);
+  EXPECT_EQ(empty_space_betti(t.grid).tunnels, 1u);
+  EXPECT_EQ(graph_betti(t.skeleton.graph).tunnels, 1u) << t.summary();
+}
+
+TEST(TopologyScenes, UCorridorHasCurvatureNodesAtTheBendsAndNoEdgeThroughAWall) {
+  const test::Soup soup = test::u_corridor();
+  const Topology t = build_at(soup, 96);
+  expect_skeleton_keeps_topology(t);
+  const Component corridor = component_at(t, {1, 5, 1.5f});
+  ASSERT_NE(corridor.label, kNoNode);
+  // Both bends hold a kept node that is not a line end's topology node.
+  for (glm::vec3 bend : {glm::vec3(1, 9, 1.5f), glm::vec3(11, 9, 1.5f)}) {
+    float nearest = 1e9f;
+    for (uint32_t s = 0; s < t.segmented.original.size(); ++s) {
+      const uint32_t o = t.segmented.original[s];
+      if (corridor.label_of[o] != corridor.label) continue;
+      if (t.segmented.kind[o] == NodeKind::Curvature)
+        nearest = std::min(nearest, glm::distance(t.skeleton.position[o], bend));
+    }
+    EXPECT_LT(nearest, 2.0f) << "no curvature node near the bend at " << bend.x << "," << bend.y << "\n" << t.summary();
+  }
+  embree::Scene scene;
+  scene.add_triangles(soup.vertices);
+  scene.commit();
+  for (uint32_t a = 0; a < t.segmented.graph.node_count(); ++a) {
+    for (uint32_t b : t.segmented.graph.neighbours(a)) {
+      const glm::vec3 pa = t.skeleton.position[t.segmented.original[a]];
+      const glm::vec3 pb = t.skeleton.position[t.segmented.original[b]];
+      EXPECT_FALSE(scene.occluded(pa, pb - pa, 0.0f, 1.0f)) << "segmented edge " << a << "-" << b << " crosses a wall";
+    }
+  }
+}
+
+TEST(TopologyScenes, RandomBlocksKeepComponentsAndTunnels) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 4; ++trial) {
+    Soup s;
+    s.box({0, 0, 0}, {10, 10, 10});
+    std::uniform_real_distribution<float> u(0.5f, 9.5f);
+    for (int b = 0; b < 6; ++b) {
+      const glm::vec3 a(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+      s.box(glm::min(a, c), glm::max(a, c));
+    }
+    const Topology t = build_at(s, 48);
+    SCOPED_TRACE(trial);
+    expect_skeleton_keeps_topology(t);
+  }
+}
+
+}  // namespace
+}  // namespace bounce::topology
+
+namespace bounce::topology {
+namespace {
+
+// Hard inputs: no crash, no NaN, and the lookups stay in range.
+void expect_sane(const Topology& t) {
+  for (size_t n = 0; n < t.skeleton.position.size(); ++n) {
+    ASSERT_TRUE(std::isfinite(t.skeleton.position[n].x + t.skeleton.position[n].y + t.skeleton.position[n].z));
+    ASSERT_TRUE(std::isfinite(t.skeleton.radius[n]) && t.skeleton.radius[n] > 0.0f);
+  }
+  for (const Gate& g : t.gates) {
+    ASSERT_TRUE(std::isfinite(g.centre.x + g.centre.y + g.centre.z + g.normal.x + g.normal.y + g.normal.z));
+    ASSERT_LT(g.clusters[0], t.cluster_count);
+    ASSERT_LT(g.clusters[1], t.cluster_count);
+  }
+  for (uint32_t c : t.cluster_of) ASSERT_LT(c, t.cluster_count);
+  for (uint32_t node : t.skeleton.voxel_node) ASSERT_TRUE(node == kNoNode || node < t.skeleton.position.size());
+  expect_skeleton_keeps_topology(t);
+}
+
+TEST(TopologyHardInputs, EmptySceneGivesAnEmptyTopology) {
+  const Topology t = build_at(Soup(), 64);
+  EXPECT_TRUE(t.grid.shape.empty());
+  EXPECT_EQ(t.cluster_count, 0u);
+  EXPECT_EQ(t.node_at({0, 0, 0}, {0, 0, 1}), kNoNode);
+}
+
+TEST(TopologyHardInputs, NonFiniteTrianglesAreSkipped) {
+  Soup s = test::closed_box();
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  s.vertices.insert(s.vertices.end(), {{nan, 0, 0}, {1, 1, 1}, {2, 0, 0}, {inf, 0, 0}, {0, 1e30f, 0}, {0, 0, 1}});
+  const Topology t = build_at(s, 48);
+  expect_sane(t);
+  EXPECT_EQ(component_at(t, {5, 3, 2}).clusters, 1u);
+  EXPECT_EQ(t.node_at({nan, 0, 0}, {0, 0, 1}), kNoNode);
+}
+
+TEST(TopologyHardInputs, SolidGridHasNoEmptySpace) {
+  // Planes closer than a voxel everywhere, no margin: every voxel is solid.
+  Soup s;
+  for (int i = 0; i <= 40; ++i) s.quad({0, 0, i * 0.25f}, {10, 10, i * 0.25f}, 2);
+  Settings settings;
+  settings.resolution = 32;
+  settings.margin = 0;
+  const Topology t = build(s.vertices, settings);
+  EXPECT_EQ(t.grid.empty_count(), 0u);
+  EXPECT_EQ(t.skeleton.graph.node_count(), 0u);
+  EXPECT_EQ(t.cluster_count, 0u);
+  EXPECT_EQ(t.node_at({5, 5, 5}, {0, 0, 1}), kNoNode);
+}
+
+TEST(TopologyHardInputs, SingleTriangleAndDegenerateOnes) {
+  Soup s;
+  s.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  expect_sane(build_at(s, 64));
+  s.vertices = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}, {3, 3, 3}, {3, 3, 3}};  // a segment, a point
+  expect_sane(build_at(s, 32));
+}
+
+TEST(TopologyHardInputs, ScaleDoesNotMatter) {
+  for (float scale : {1e-4f, 1e4f}) {
+    Soup s = test::two_rooms();
+    for (glm::vec3& v : s.vertices) v *= scale;
+    const Topology t = build_at(s, 96);
+    SCOPED_TRACE(scale);
+    expect_sane(t);
+    const Component inside = component_at(t, glm::vec3(5, 5, 2) * scale);
+    EXPECT_EQ(inside.clusters, 2u);
+    EXPECT_EQ(inside.gates.size(), 1u);
+  }
+}
+
+TEST(TopologyHardInputs, ResolutionOneAndTheLargest) {
+  const Soup box = test::closed_box();
+  const Topology one = build_at(box, 1);
+  EXPECT_EQ(one.grid.shape.dims, glm::ivec3(1));
+  expect_sane(one);
+  // The largest resolution over a scene that is mostly empty space: the most voxels to thin.
+  Soup tetra;
+  tetra.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {0, 0, 1}, {1, 1, 1}};
+  const Topology largest = build_at(tetra, kMaxResolution + 100);
+  EXPECT_EQ(std::max({largest.grid.shape.dims.x, largest.grid.shape.dims.y, largest.grid.shape.dims.z}),
+            kMaxResolution);
+  expect_sane(largest);
+  std::printf("%s", largest.summary().c_str());
+}
+
+TEST(TopologyBuild, CancelStopsTheBuild) {
+  int calls = 0;
+  EXPECT_THROW(build(test::two_rooms().vertices, Settings{},
+                     [&](BuildStage stage, float) { return ++calls < 3 && stage != BuildStage::Thinning; }),
+               Cancelled);
+}
+
+TEST(TopologyBuild, SameInputSameTopology) {
+  const Topology a = build_at(test::two_rooms(), 64), b = build_at(test::two_rooms(), 64);
+  EXPECT_EQ(a.skeleton.position, b.skeleton.position);
+  EXPECT_EQ(a.cluster_of, b.cluster_of);
+  EXPECT_EQ(a.skeleton.voxel_node, b.skeleton.voxel_node);
+}
+
+}  // namespace
+}  // namespace bounce::topology

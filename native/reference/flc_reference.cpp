@@ -1,15 +1,11 @@
 #include "reference/flc_reference.h"
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cmath>
-#include <exception>
 #include <limits>
-#include <mutex>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
@@ -17,6 +13,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
+#include "common/parallel.h"
 #include "scene_data.h"
 
 namespace bounce::reference {
@@ -51,40 +48,6 @@ class Rng {
  private:
   uint64_t state_;
 };
-
-int thread_count(const Options& options, std::size_t items) {
-  int n = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
-  n = std::max(n, 1);
-  return static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(n), std::max<std::size_t>(items, 1)));
-}
-
-// Calls body(i) for i in [0, count) on `threads` threads, `grain` consecutive items at a time; rethrows the
-// first exception.
-template <class Body>
-void parallel_for(std::size_t count, int threads, std::size_t grain, const Body& body) {
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto work = [&] {
-    try {
-      for (;;) {
-        const std::size_t begin = next.fetch_add(grain);
-        if (begin >= count) return;
-        const std::size_t end = std::min(count, begin + grain);
-        for (std::size_t i = begin; i < end; ++i) body(i);
-      }
-    } catch (...) {
-      std::lock_guard lock(error_mutex);
-      if (!error) error = std::current_exception();
-      next = count;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& thread : pool) thread.join();
-  if (error) std::rethrow_exception(error);
-}
 
 // The engine's own sanitising (dropped, clamped, orthonormalised): the reference lights what the engine draws.
 std::vector<BounceLight> sanitize_lights(const std::vector<BounceLight>& lights) {
@@ -309,7 +272,7 @@ std::vector<Vpl> make_vpls(const Scene& scene, Mode mode, const Options& options
     first[i + 1] = first[i] + std::size_t(side[i]) * std::size_t(side[i]);
   }
   std::vector<Vpl> vpls(first.back());
-  parallel_for(triangles.size(), thread_count(options, triangles.size()), 16, [&](std::size_t i) {
+  parallel_for(triangles.size(), options.threads, 16, [&](std::size_t i) {
     const int m = side[i];
     if (m == 0) return;
     const auto& p = triangles[i].p;
@@ -382,7 +345,7 @@ std::vector<glm::vec3> indirect(const Scene& scene, std::span<const Receiver> re
                                 const Options& options) {
   const std::vector<Vpl> vpls = make_vpls(scene, mode, options);
   std::vector<glm::vec3> out(receivers.size());
-  parallel_for(receivers.size(), thread_count(options, receivers.size()), 1,
+  parallel_for(receivers.size(), options.threads, 1,
                [&](std::size_t i) { out[i] = gather(vpls, receivers[i], options.epsilon); });
   return out;
 }
@@ -410,7 +373,7 @@ Image render(const Scene& scene, const BounceCamera& camera, Mode mode, const Op
   const std::size_t pixels = std::size_t(width) * std::size_t(height);
   Image image{width, height, std::vector<glm::vec3>(pixels), std::vector<glm::vec3>(pixels),
               std::vector<uint8_t>(pixels)};
-  parallel_for(std::size_t(height), thread_count(options, std::size_t(height)), 1, [&](std::size_t row) {
+  parallel_for(std::size_t(height), options.threads, 1, [&](std::size_t row) {
     for (int column = 0; column < width; ++column) {
       const double ndc_x = (column + 0.5) / width * 2.0 - 1.0;
       const double ndc_y = (double(row) + 0.5) / height * 2.0 - 1.0;

@@ -1,8 +1,9 @@
 #include "distance_transform.h"
 
+#include <algorithm>
 #include <limits>
 
-#include "parallel.h"
+#include "common/parallel.h"
 
 namespace bounce::topology {
 
@@ -47,8 +48,10 @@ void transform_line(const int64_t* f, int64_t* out, int n, std::vector<int>& v, 
 std::vector<uint32_t> squared_distance_transform(const VoxelGrid& grid) {
   const glm::ivec3 p = grid.shape.padded();
   const size_t count = grid.shape.padded_count();
-  std::vector<int64_t> field(count);
-  for (size_t i = 0; i < count; ++i) field[i] = grid.solid[i] ? 0 : kInfinite;
+  // In place, 32 bits a cell (no distance in a padded grid of kMaxResolution reaches 2^32); a line at a time in
+  // 64 bits, UINT32_MAX standing for no feature yet.
+  std::vector<uint32_t> field(count);
+  for (size_t i = 0; i < count; ++i) field[i] = grid.solid[i] ? 0u : UINT32_MAX;
 
   // Along each axis in turn: lines are independent, so they run in parallel.
   const std::ptrdiff_t strides[3] = {1, p.x, std::ptrdiff_t(p.x) * p.y};
@@ -56,22 +59,26 @@ std::vector<uint32_t> squared_distance_transform(const VoxelGrid& grid) {
     const int n = p[axis];
     const int a = (axis + 1) % 3, b = (axis + 2) % 3;
     const size_t lines = size_t(p[a]) * size_t(p[b]);
-    parallel_for(lines, [&](size_t begin, size_t end) {
+    constexpr size_t kLinesPerTask = 64;  // scratch lines are allocated once per task
+    parallel_for((lines + kLinesPerTask - 1) / kLinesPerTask, 0, 1, [&](size_t task) {
+      const size_t begin = task * kLinesPerTask, end = std::min(lines, begin + kLinesPerTask);
       std::vector<int64_t> in(static_cast<size_t>(n)), out(static_cast<size_t>(n));
       std::vector<int> v;
       std::vector<double> z;
       for (size_t line = begin; line < end; ++line) {
         const std::ptrdiff_t base =
             std::ptrdiff_t(line % size_t(p[a])) * strides[a] + std::ptrdiff_t(line / size_t(p[a])) * strides[b];
-        for (int q = 0; q < n; ++q) in[size_t(q)] = field[size_t(base + q * strides[axis])];
+        for (int q = 0; q < n; ++q) {
+          const uint32_t f = field[size_t(base + q * strides[axis])];
+          in[size_t(q)] = f == UINT32_MAX ? kInfinite : int64_t(f);
+        }
         transform_line(in.data(), out.data(), n, v, z);
-        for (int q = 0; q < n; ++q) field[size_t(base + q * strides[axis])] = out[size_t(q)];
+        for (int q = 0; q < n; ++q)
+          field[size_t(base + q * strides[axis])] = uint32_t(std::min<int64_t>(out[size_t(q)], UINT32_MAX));
       }
     });
   }
-  std::vector<uint32_t> result(count);
-  for (size_t i = 0; i < count; ++i) result[i] = uint32_t(std::min<int64_t>(field[i], UINT32_MAX));
-  return result;
+  return field;
 }
 
 }  // namespace bounce::topology

@@ -61,16 +61,18 @@ std::vector<uint8_t> thin(const VoxelGrid& grid, std::span<const uint32_t> d2, c
   for (size_t i = 0; i < state.size(); ++i) state[i] = grid.solid[i] ? kSolid : kEmpty;
   CellSets background = solid_components(grid);
 
-  // Buckets by rank of squared distance: the queue pops the cell nearest to the solid first.
-  std::vector<uint32_t> values;
+  // Buckets by rank of squared distance: the queue pops the cell nearest to the solid first. The ranks come
+  // from a table over the distances that occur, so a push costs one lookup.
+  uint32_t farthest = 0;
   for (size_t i = 0; i < state.size(); ++i)
-    if (state[i] == kEmpty) values.push_back(d2[i]);
-  std::sort(values.begin(), values.end());
-  values.erase(std::unique(values.begin(), values.end()), values.end());
-  const auto rank = [&](size_t i) {
-    return size_t(std::lower_bound(values.begin(), values.end(), d2[i]) - values.begin());
-  };
-  std::vector<std::vector<uint32_t>> buckets(values.size());
+    if (state[i] == kEmpty) farthest = std::max(farthest, d2[i]);
+  std::vector<uint32_t> rank_of(size_t(farthest) + 1, 0);
+  for (size_t i = 0; i < state.size(); ++i)
+    if (state[i] == kEmpty) rank_of[d2[i]] = 1;
+  uint32_t ranks = 0;
+  for (uint32_t& r : rank_of) r = r ? ranks++ : 0;
+  const auto rank = [&](size_t i) { return size_t(rank_of[d2[i]]); };
+  std::vector<std::vector<uint32_t>> buckets(ranks);
   const uint32_t faces = face_neighbours();
   for (size_t i = 0; i < state.size(); ++i) {
     if (state[i] != kEmpty) continue;

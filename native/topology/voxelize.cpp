@@ -4,12 +4,11 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <thread>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "parallel.h"
+#include "common/parallel.h"
 
 namespace bounce::topology {
 
@@ -79,40 +78,36 @@ VoxelGrid voxelize(std::span<const glm::vec3> soup, const GridShape& shape) {
   // Boxes grow by a hair so a triangle lying exactly on a voxel face marks both sides.
   constexpr double kHalf = 0.5 + 1e-6;
   const size_t triangles = soup.size() / 3;
-  parallel_for(triangles, [&](size_t begin, size_t end) {
-    for (size_t t = begin; t < end; ++t) {
-      if (!finite_triangle(soup, t)) continue;
-      glm::dvec3 p[3];
-      for (int k = 0; k < 3; ++k) p[k] = (glm::dvec3(soup[3 * t + k]) - shape.origin) / shape.voxel_size;
-      const glm::ivec3 lo =
-          glm::max(glm::ivec3(glm::floor(glm::min(p[0], glm::min(p[1], p[2])) - 1e-6)), glm::ivec3(0));
-      const glm::ivec3 hi =
-          glm::min(glm::ivec3(glm::floor(glm::max(p[0], glm::max(p[1], p[2])) + 1e-6)), shape.dims - 1);
-      // Walk columns along the normal's dominant axis w; in each, only the cells the plane can reach.
-      const glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
-      const glm::dvec3 an = glm::abs(n);
-      const int w = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
-      const int u = (w + 1) % 3, v = (w + 2) % 3;
-      const double plane = glm::dot(n, p[0]);
-      const double reach = kHalf * (an.x + an.y + an.z);
-      for (int cu = lo[u]; cu <= hi[u]; ++cu) {
-        for (int cv = lo[v]; cv <= hi[v]; ++cv) {
-          int w0 = lo[w], w1 = hi[w];
-          if (an[w] > 0.0) {
-            const double rest = plane - n[u] * (cu + 0.5) - n[v] * (cv + 0.5);
-            const double a = (rest - reach) / n[w] - 0.5, b = (rest + reach) / n[w] - 0.5;
-            w0 = std::max(w0, int(std::floor(std::min(a, b))));
-            w1 = std::min(w1, int(std::ceil(std::max(a, b))));
-          }
-          for (int cw = w0; cw <= w1; ++cw) {
-            glm::ivec3 cell;
-            cell[u] = cu, cell[v] = cv, cell[w] = cw;
-            uint8_t& voxel = grid.solid[shape.index(cell)];
-            if (std::atomic_ref<uint8_t>(voxel).load(std::memory_order_relaxed)) continue;
-            const glm::dvec3 centre = glm::dvec3(cell) + 0.5;
-            if (triangle_overlaps_box(p[0] - centre, p[1] - centre, p[2] - centre, kHalf)) {
-              std::atomic_ref<uint8_t>(voxel).store(1, std::memory_order_relaxed);
-            }
+  parallel_for(triangles, 0, 64, [&](size_t t) {
+    if (!finite_triangle(soup, t)) return;
+    glm::dvec3 p[3];
+    for (int k = 0; k < 3; ++k) p[k] = (glm::dvec3(soup[3 * t + k]) - shape.origin) / shape.voxel_size;
+    const glm::ivec3 lo = glm::max(glm::ivec3(glm::floor(glm::min(p[0], glm::min(p[1], p[2])) - 1e-6)), glm::ivec3(0));
+    const glm::ivec3 hi = glm::min(glm::ivec3(glm::floor(glm::max(p[0], glm::max(p[1], p[2])) + 1e-6)), shape.dims - 1);
+    // Walk columns along the normal's dominant axis w; in each, only the cells the plane can reach.
+    const glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+    const glm::dvec3 an = glm::abs(n);
+    const int w = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
+    const int u = (w + 1) % 3, v = (w + 2) % 3;
+    const double plane = glm::dot(n, p[0]);
+    const double reach = kHalf * (an.x + an.y + an.z);
+    for (int cu = lo[u]; cu <= hi[u]; ++cu) {
+      for (int cv = lo[v]; cv <= hi[v]; ++cv) {
+        int w0 = lo[w], w1 = hi[w];
+        if (an[w] > 0.0) {
+          const double rest = plane - n[u] * (cu + 0.5) - n[v] * (cv + 0.5);
+          const double a = (rest - reach) / n[w] - 0.5, b = (rest + reach) / n[w] - 0.5;
+          w0 = std::max(w0, int(std::floor(std::min(a, b))));
+          w1 = std::min(w1, int(std::ceil(std::max(a, b))));
+        }
+        for (int cw = w0; cw <= w1; ++cw) {
+          glm::ivec3 cell;
+          cell[u] = cu, cell[v] = cv, cell[w] = cw;
+          uint8_t& voxel = grid.solid[shape.index(cell)];
+          if (std::atomic_ref<uint8_t>(voxel).load(std::memory_order_relaxed)) continue;
+          const glm::dvec3 centre = glm::dvec3(cell) + 0.5;
+          if (triangle_overlaps_box(p[0] - centre, p[1] - centre, p[2] - centre, kHalf)) {
+            std::atomic_ref<uint8_t>(voxel).store(1, std::memory_order_relaxed);
           }
         }
       }

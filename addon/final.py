@@ -18,6 +18,7 @@ PASSES = (
     (native.AOV_DEPTH, "Depth", "Z", "VALUE"),
     (native.AOV_VPLS, "VPLs", "RGB", "COLOR"),
     (native.AOV_SECOND_BOUNCE, "Second Bounce", "RGB", "COLOR"),
+    (native.AOV_TOPOLOGY, "Topology", "RGBA", "COLOR"),
 )
 _AOV_BY_PASS = {name: aov for aov, name, _, _ in PASSES}
 
@@ -61,6 +62,7 @@ def _render(engine, depsgraph, reports):
     scene_stats = current.engine.scene_stats()
     _report_scene_stats(scene_stats, reports)
 
+    builds_before = current.engine.topology_info().builds
     start = time.perf_counter()
     current.engine.render_start(settings, camera)
     while not current.engine.render_wait(WAIT_MS):
@@ -77,12 +79,24 @@ def _render(engine, depsgraph, reports):
     if info.nonfinite_pixels:
         reports.warn(f"Bounce: {info.nonfinite_pixels} pixels were not finite and were set to zero")
     _write_result(engine, depsgraph, current.engine, info)
-    _summarize(engine, kind, info, scene_stats, current.scene.stats, render_seconds)
+    _summarize(engine, kind, info, settings.method, scene_stats, current.scene.stats, render_seconds)
+    if settings.method == native.METHOD_TOPOLOGY and kind == session.FINAL:
+        topology = current.engine.topology_info()
+        built = "built" if topology.builds > builds_before else "from the cache"
+        last_render["topology"] = f"{built}: {topology.summary()}"
+        print(f"Bounce: topology {last_render['topology']}")
 
 
 def _show_progress(engine, progress):
     engine.update_progress(min(max(progress.progress, 0.0), 1.0))
-    engine.update_stats("", f"Bounce | Sample {progress.samples_done}/{progress.samples_total}")
+    engine.update_stats("", progress_text(progress))
+
+
+def progress_text(progress):
+    """The status line of a running render: its precomputation stage, or its samples."""
+    if progress.stage_text():
+        return f"Bounce | {progress.stage_text()} ({100 * progress.progress:.0f} %)"
+    return f"Bounce | Sample {progress.samples_done}/{progress.samples_total}"
 
 
 def _report_scene_stats(stats, reports):
@@ -126,8 +140,10 @@ def _fit(pixels, src_width, src_height, width, height, channels):
     return out.reshape(-1, channels)
 
 
-def indirect_summary(info, light_names):
+def indirect_summary(info, light_names, method):
     """What the indirect method did in the frame's last sample, in a few words ('' when none ran)."""
+    if method == native.METHOD_TOPOLOGY:
+        return f"Topology: {info.vpl_count:,} VPLs, {info.cluster_count} visibility clusters"
     if info.main_light >= 0:
         name = light_names[info.main_light] if info.main_light < len(light_names) else "?"
         return (f"SSVP: main light '{name}', {info.vpl_count:,} VPLs, {info.cluster_count} clusters")
@@ -136,10 +152,11 @@ def indirect_summary(info, light_names):
     return ""
 
 
-def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
+def _summarize(engine, kind, info, method, scene_stats, sync_stats, render_seconds):
     stages = info.stage_list()
-    stage_text = ", ".join(f"{name} {gpu_ms:.1f} ms" for name, gpu_ms, _cpu_ms in stages)
-    indirect = indirect_summary(info, sync_stats.last_light_names)
+    # CPU stages (the topology method's) have no GPU time: their wall time stands in.
+    stage_text = ", ".join(f"{name} {gpu_ms or cpu_ms:.1f} ms" for name, gpu_ms, cpu_ms in stages)
+    indirect = indirect_summary(info, sync_stats.last_light_names, method)
     indirect_text = f" | {indirect}" if indirect else ""
     engine.update_stats("", f"Bounce | {info.samples} samples{indirect_text} | {stage_text}")
     if kind != session.FINAL:

@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 2  # BOUNCE_API_VERSION this module was written against
+API_VERSION = 3  # BOUNCE_API_VERSION this module was written against
 
 LIBRARY_ENV = "BOUNCE_LIBRARY"
 LIBRARY_NAME = "libbounce.so"
@@ -85,6 +85,8 @@ LIGHT_SUN = 2
 LIGHT_AREA_RECT = 3
 LIGHT_AREA_ELLIPSE = 4
 
+METHOD_TOPOLOGY = 4
+
 AOV_COMBINED = 0
 AOV_DIRECT = 1
 AOV_EMISSION = 2
@@ -94,7 +96,8 @@ AOV_DEPTH = 5
 AOV_INDIRECT = 6
 AOV_VPLS = 7
 AOV_SECOND_BOUNCE = 8
-AOV_COUNT = 9
+AOV_TOPOLOGY = 9
+AOV_COUNT = 10
 
 RENDER_IDLE = 0
 RENDER_RUNNING = 1
@@ -103,6 +106,7 @@ RENDER_FAILED = 3
 RENDER_CANCELLED = 4
 
 MAX_STAGES = 16
+TOPOLOGY_STAGES = 6
 
 # ---- Struct mirrors (field order and types exactly as in bounce.h) --------------------------------------
 
@@ -195,7 +199,12 @@ class RenderProgress(ctypes.Structure):
                 ("samples_done", _i32),
                 ("samples_total", _i32),
                 ("progress", _f32),
-                ("frame_serial", _u64)]
+                ("frame_serial", _u64),
+                ("stage", ctypes.c_char * 64)]
+
+    def stage_text(self):
+        """What runs before sampling (e.g. "Topology: thinning"), or ""."""
+        return self.stage.decode("utf-8", "replace")
 
 
 class StageTime(ctypes.Structure):
@@ -221,6 +230,30 @@ class FrameInfo(ctypes.Structure):
         """[(name, gpu_ms, cpu_ms), ...] of the stages filled in."""
         count = max(0, min(self.stage_count, MAX_STAGES))
         return [(s.name.decode("utf-8", "replace"), s.gpu_ms, s.cpu_ms) for s in self.stages[:count]]
+
+
+class TopologyInfo(ctypes.Structure):
+    _fields_ = [("available", _i32),
+                ("grid", _i32 * 3),
+                ("voxel_size", _f32),
+                ("skeleton_nodes", _u32),
+                ("segmented_nodes", _u32),
+                ("clusters", _u32),
+                ("gates", _u32),
+                ("builds", _u64),
+                ("stage_names", (ctypes.c_char * 24) * TOPOLOGY_STAGES),
+                ("stage_ms", ctypes.c_double * TOPOLOGY_STAGES)]
+
+    def stage_list(self):
+        """[(name, ms), ...] of the precomputation's stages."""
+        return [(bytes(self.stage_names[i]).split(b"\0")[0].decode(), self.stage_ms[i])
+                for i in range(TOPOLOGY_STAGES)]
+
+    def summary(self):
+        """One line: the grid, the counts and the time of each stage."""
+        stages = ", ".join(f"{name} {ms / 1000:.2f} s" for name, ms in self.stage_list())
+        return (f"grid {self.grid[0]}x{self.grid[1]}x{self.grid[2]}, {self.skeleton_nodes} skeleton nodes, "
+                f"{self.clusters} visibility clusters, {self.gates} gates | {stages}")
 
 
 def struct_array(struct_type, items):
@@ -286,6 +319,7 @@ class Library:
             "bounce_render_wait": [_Engine_p, _i32],
             "bounce_frame_info": [_Engine_p, ctypes.POINTER(FrameInfo)],
             "bounce_frame_read": [_Engine_p, _i32, ctypes.POINTER(_f32), size_t],
+            "bounce_topology_info": [_Engine_p, ctypes.POINTER(TopologyInfo)],
         }
         for name, argtypes in status_functions.items():
             func = getattr(c, name)
@@ -501,6 +535,12 @@ class Engine:
         progress = RenderProgress()
         self._c.bounce_render_progress(self._h(), ctypes.byref(progress))
         return progress
+
+    def topology_info(self):
+        """The TopologyInfo of the last TOPOLOGY render (available == 0 before one)."""
+        info = TopologyInfo()
+        self._c.bounce_topology_info(self._h(), ctypes.byref(info))
+        return info
 
     def render_wait(self, timeout_ms):
         """True when the render ended (done), False on timeout; raises the render's failure or CancelledError."""

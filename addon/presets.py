@@ -33,7 +33,22 @@ SSVP_PRESETS = {
         "ssvp_paraboloid_size": 512, "ssvp_blur_radius": 2, "samples": 64, "viewport_samples": 32}),
 }
 
-PRESETS_BY_GROUP = {"Forward Light Cuts": FLC_PRESETS, "Screen-Space VPL Propagation": SSVP_PRESETS}
+# Topology: the paper renders 512 to 2048 VPLs (Table I) on a 256^3 grid (Sec. VI.A). Draft keeps the
+# precomputation under a second or two on small scenes; Final is the paper's grid with its largest VPL count.
+TOPOLOGY_PRESETS = {
+    "DRAFT": ("Draft", "Fast: a 64^3 grid, 256 VPLs, few samples", {
+        "topology_resolution": 64, "topology_vpls": 256, "viewport_topology_vpls": 256,
+        "topology_cluster_size": 32, "samples": 4, "viewport_samples": 4}),
+    "PREVIEW": ("Preview", "A 128^3 grid and 1024 VPLs (the paper: 512 to 2048)", {
+        "topology_resolution": 128, "topology_vpls": 1024, "viewport_topology_vpls": 512,
+        "topology_cluster_size": 16, "samples": 16, "viewport_samples": 8}),
+    "FINAL": ("Final", "The paper's 256^3 grid and 2048 VPLs, many samples", {
+        "topology_resolution": 256, "topology_vpls": 2048, "viewport_topology_vpls": 1024,
+        "topology_cluster_size": 16, "samples": 64, "viewport_samples": 16}),
+}
+
+PRESETS_BY_GROUP = {"Forward Light Cuts": FLC_PRESETS, "Screen-Space VPL Propagation": SSVP_PRESETS,
+                    "Topology": TOPOLOGY_PRESETS}
 
 
 class BOUNCE_OT_apply_preset(bpy.types.Operator):

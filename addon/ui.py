@@ -99,6 +99,8 @@ class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
                        f"{info['lights']} lights, {info['gpu_bytes'] / 2**20:.1f} MiB")
         if info["indirect"]:
             col.label(text=info["indirect"])
+        if info.get("topology"):
+            col.label(text=f"Topology {info['topology']}")
         if info["dropped_triangles"] or info["skipped_lights"]:
             col.label(text=f"Dropped {info['dropped_triangles']:,} triangles, skipped {info['skipped_lights']} "
                            "lights", icon="ERROR")
@@ -117,6 +119,9 @@ GROUP_NOTES = {
     "Screen-Space VPL Propagation":
         "Only the main light bounces: the light that brings the most light into the scene (see Last Render or "
         "the viewport's statistics for which). The other lights add direct light only.",
+    "Topology":
+        "Renders on the CPU. The first render of a scene precomputes the topology of its empty space (cached by "
+        "geometry and grid settings: moving the camera or a light reuses it). Alpha cut-outs count as opaque.",
 }
 
 

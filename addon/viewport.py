@@ -52,15 +52,22 @@ def _draw_latest_frame(engine, context, current):
     import gpu
     from gpu_extras.presets import draw_texture_2d
 
+    progress = current.engine.render_progress()
+    if progress.stage_text():
+        engine.update_stats("", final.progress_text(progress))
     info = current.engine.frame_info()
     if info is not None and info.serial != current.texture_serial:
         # frame_read reads the frame `info` describes, even if a newer one (another size) is published meanwhile.
         current.pixels = current.engine.frame_read(native.AOV_COMBINED, info.width, info.height, out=current.pixels)
+        props = context.scene.bounce
+        if props.method == "TOPOLOGY" and props.topology_overlay:
+            _blend_overlay(current.pixels, current.engine.frame_read(native.AOV_TOPOLOGY, info.width, info.height))
         flat = current.pixels.reshape(-1)
         buffer = gpu.types.Buffer("FLOAT", flat.size, flat)  # wraps the numpy memory, no copy
         current.texture = gpu.types.GPUTexture((info.width, info.height), format="RGBA16F", data=buffer)
         current.texture_serial = info.serial
-        indirect = final.indirect_summary(info, current.scene.stats.last_light_names)
+        indirect = final.indirect_summary(info, current.scene.stats.last_light_names,
+                                          native.METHOD_TOPOLOGY if props.method == "TOPOLOGY" else None)
         engine.update_stats("", f"Bounce | Sample {info.samples}" + (f" | {indirect}" if indirect else ""))
     if current.texture is None:
         return
@@ -73,6 +80,15 @@ def _draw_latest_frame(engine, context, current):
     finally:
         engine.unbind_display_space_shader()
         gpu.state.blend_set("NONE")
+
+
+OVERLAY_OPACITY = 0.6
+
+
+def _blend_overlay(image, overlay):
+    """The Topology pass over the image (both (pixels, 4) float arrays), in place, at OVERLAY_OPACITY."""
+    weight = OVERLAY_OPACITY * overlay[:, 3:4]
+    image[:, :3] = image[:, :3] * (1.0 - weight) + overlay[:, :3] * weight
 
 
 def _emit(engine, reports):
@@ -92,6 +108,8 @@ def _poll_renders():
         except native.BounceError:
             continue
         running |= progress.state == native.RENDER_RUNNING
+        if progress.stage_text():  # the precomputation's status line moves on without frames
+            redraw = True
         if progress.frame_serial != current.texture_serial and progress.frame_serial != current.redraw_serial:
             current.redraw_serial = progress.frame_serial
             redraw = True

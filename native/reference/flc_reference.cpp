@@ -14,211 +14,27 @@
 #include <glm/vec4.hpp>
 
 #include "common/parallel.h"
+#include "cpu/direct_light.h"
 #include "scene_data.h"
 
 namespace bounce::reference {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
-constexpr double kPiD = 3.14159265358979323846;
 
-glm::vec3 load3(const float v[3]) { return {v[0], v[1], v[2]}; }
+using cpu::mix;
+using cpu::Rng;
 
-// splitmix64's finaliser: a bijective 64-bit hash.
-uint64_t mix(uint64_t x) {
-  x ^= x >> 30;
-  x *= 0xBF58476D1CE4E5B9ull;
-  x ^= x >> 27;
-  x *= 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
-// Counter-based streams, so a value depends only on (seed, what it is for, which item), never on the thread
-// or the order in which items are processed.
 enum Purpose : uint64_t { kTrianglePoints = 1, kLightSamples = 2, kIrradianceQuery = 3 };
-
-class Rng {
- public:
-  Rng(uint64_t seed, uint64_t purpose, uint64_t item) : state_(mix(mix(seed ^ mix(purpose)) ^ item)) {}
-  float next() {
-    state_ += 0x9E3779B97F4A7C15ull;
-    return static_cast<float>(mix(state_) >> 40) * 0x1p-24f;  // [0, 1)
-  }
-
- private:
-  uint64_t state_;
-};
 
 // The engine's own sanitising (dropped, clamped, orthonormalised): the reference lights what the engine draws.
 std::vector<BounceLight> sanitize_lights(const std::vector<BounceLight>& lights) {
   return prepare_lights(static_cast<uint32_t>(lights.size()), lights.data()).lights;
 }
 
-float smoothstep(float edge0, float edge1, float x) {
-  const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
-
-// lights.glsl, spot_attenuation.
-float spot_attenuation(const BounceLight& light, glm::vec3 from_light) {
-  const float cos_phi = glm::dot(from_light, -load3(light.axis_z));
-  const float cos_half = std::cos(light.spot_half_angle);
-  if (cos_phi <= cos_half) return 0.0f;
-  const float smooth_width = (1.0f - cos_half) * light.spot_blend;
-  const float factor = smooth_width > 0.0f ? smoothstep(0.0f, smooth_width, cos_phi - cos_half) : 1.0f;
-  return light.spot_cos_falloff != 0 ? factor * cos_phi : factor;
-}
-
-// Shirley and Chiu's concentric map: the unit square onto the unit disk, area-preserving, so strata stay strata.
-glm::vec2 concentric_disk(float s, float t) {
-  const float a = 2.0f * s - 1.0f, b = 2.0f * t - 1.0f;
-  if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
-  if (std::abs(a) > std::abs(b)) {
-    const float phi = kPi / 4 * (b / a);
-    return {a * std::cos(phi), a * std::sin(phi)};
-  }
-  const float phi = kPi / 2 - kPi / 4 * (a / b);
-  return {b * std::cos(phi), b * std::sin(phi)};
-}
-
-int grid_side(int samples, int dimensions) {
-  int k = 1;
-  while (dimensions == 2 ? k * k < samples : k * k * k < samples) ++k;
-  return k;
-}
-
-struct ShadingContext {
-  const embree::Scene& bvh;
-  float offset;
-  int samples;
-  Rng& rng;
-
-  // Whether the segment from y (pushed off its surface along n) to `target` is free.
-  bool visible(glm::vec3 y, glm::vec3 n, glm::vec3 target) const {
-    const glm::vec3 origin = y + n * offset;
-    const glm::vec3 to_target = target - origin;
-    const float distance = glm::length(to_target);
-    if (distance <= offset) return true;
-    return !bvh.occluded(origin, to_target / distance, 0.0f, distance - offset);
-  }
-  bool visible_direction(glm::vec3 y, glm::vec3 n, glm::vec3 dir) const {
-    return !bvh.occluded(y + n * offset, dir, 0.0f, std::numeric_limits<float>::infinity());
-  }
-};
-
-// Point and spot: lights.glsl's unshadowed irradiance I cos / (d^2 + r^2) (times the cone), times the visible
-// fraction of the ball of radius r among its points above y's horizon (the GPU's shadow_visibility: the part below
-// cannot reach y and carries no information).
-glm::vec3 point_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, ShadingContext& context) {
-  const glm::vec3 centre = load3(light.position);
-  const glm::vec3 to_light = centre - y;
-  const float d2 = glm::dot(to_light, to_light);
-  const glm::vec3 l = to_light / std::sqrt(std::max(d2, 1e-30f));
-  const float r = light.radius;
-  float falloff = std::max(glm::dot(n, l), 0.0f) / (d2 + r * r);
-  if (light.type == BOUNCE_LIGHT_SPOT) falloff *= spot_attenuation(light, -l);
-  const glm::vec3 unshadowed = load3(light.intensity) * falloff;
-  if (!(falloff > 0.0f) || !light.cast_shadow) return unshadowed;
-  if (r <= 0.0f) return context.visible(y, n, centre) ? unshadowed : glm::vec3(0.0f);
-  const int k = grid_side(context.samples, 3);
-  int above = 0, seen = 0;
-  for (int i = 0; i < k; ++i) {
-    for (int j = 0; j < k; ++j) {
-      for (int m = 0; m < k; ++m) {
-        const float u1 = (float(i) + context.rng.next()) / float(k);
-        const float u2 = (float(j) + context.rng.next()) / float(k);
-        const float u3 = (float(m) + context.rng.next()) / float(k);
-        const float cos_theta = 1.0f - 2.0f * u2;
-        const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
-        const float phi = 2.0f * kPi * u3;
-        const glm::vec3 p =
-            centre + r * std::cbrt(u1) * glm::vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
-        if (glm::dot(n, p - y) <= 0.0f) continue;
-        ++above;
-        if (context.visible(y, n, p)) ++seen;
-      }
-    }
-  }
-  if (above == 0) return context.visible(y, n, centre) ? unshadowed : glm::vec3(0.0f);
-  return unshadowed * (float(seen) / float(above));
-}
-
-// Sun: E cos toward axis_z, times the visible fraction of its disk (directions uniform in the cone of half the
-// angular diameter) among the directions above y's horizon.
-glm::vec3 sun_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, ShadingContext& context) {
-  const glm::vec3 z = load3(light.axis_z), x = load3(light.axis_x), w = load3(light.axis_y);
-  const float cos_n = glm::dot(n, z);
-  const glm::vec3 unshadowed = load3(light.intensity) * std::max(cos_n, 0.0f);
-  if (!(cos_n > 0.0f) || !light.cast_shadow) return unshadowed;
-  const float cos_max = std::cos(0.5f * light.sun_angle);
-  if (light.sun_angle <= 0.0f) return context.visible_direction(y, n, z) ? unshadowed : glm::vec3(0.0f);
-  const int k = grid_side(context.samples, 2);
-  int above = 0, seen = 0;
-  for (int i = 0; i < k; ++i) {
-    for (int j = 0; j < k; ++j) {
-      const float cos_theta = 1.0f - (float(i) + context.rng.next()) / float(k) * (1.0f - cos_max);
-      const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
-      const float phi = 2.0f * kPi * (float(j) + context.rng.next()) / float(k);
-      const glm::vec3 dir = glm::normalize(cos_theta * z + sin_theta * (std::cos(phi) * x + std::sin(phi) * w));
-      if (glm::dot(n, dir) <= 0.0f) continue;
-      ++above;
-      if (context.visible_direction(y, n, dir)) ++seen;
-    }
-  }
-  if (above == 0) return context.visible_direction(y, n, z) ? unshadowed : glm::vec3(0.0f);
-  return unshadowed * (float(seen) / float(above));
-}
-
-// Area: E = L * integral over the emitter of cos_y cos_l / r^2 V dA (stratified points); converges to Lambert's
-// polygon formula of lights.glsl where nothing blocks (to the true ellipse, which lights.glsl approximates by
-// an equal-area 32-gon). Only the side facing -axis_z emits.
-glm::vec3 area_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, ShadingContext& context) {
-  const glm::vec3 c = load3(light.position), z = load3(light.axis_z);
-  if (glm::dot(y - c, -z) <= 0.0f) return glm::vec3(0.0f);
-  const glm::vec3 u = load3(light.axis_x) * light.half_size[0], v = load3(light.axis_y) * light.half_size[1];
-  const bool rect = light.type == BOUNCE_LIGHT_AREA_RECT;
-  const float area = (rect ? 4.0f : kPi) * light.half_size[0] * light.half_size[1];
-  const int k = grid_side(context.samples, 2);
-  double sum = 0.0;
-  for (int i = 0; i < k; ++i) {
-    for (int j = 0; j < k; ++j) {
-      const float s = (float(i) + context.rng.next()) / float(k);
-      const float t = (float(j) + context.rng.next()) / float(k);
-      const glm::vec2 q = rect ? glm::vec2(2.0f * s - 1.0f, 2.0f * t - 1.0f) : concentric_disk(s, t);
-      const glm::vec3 p = c + q.x * u + q.y * v;
-      const glm::vec3 to_p = p - y;
-      const float d2 = glm::dot(to_p, to_p);
-      if (!(d2 > 0.0f)) continue;
-      const float d = std::sqrt(d2);
-      const float cos_y = glm::dot(n, to_p) / d;
-      const float cos_l = glm::dot(to_p, z) / d;
-      if (cos_y <= 0.0f || cos_l <= 0.0f) continue;
-      if (light.cast_shadow && !context.visible(y, n, p)) continue;
-      sum += double(cos_y) * double(cos_l) / double(d2);
-    }
-  }
-  return load3(light.intensity) * static_cast<float>(sum * double(area) / double(k * k));
-}
-
 glm::vec3 irradiance_with(const Scene& scene, glm::vec3 y, glm::vec3 n, const Options& options, Rng& rng) {
   const float offset = options.shadow_offset > 0.0f ? options.shadow_offset : 1e-4f * scene.diagonal();
-  ShadingContext context{scene.bvh(), offset, std::max(options.light_samples, 1), rng};
-  glm::vec3 sum(0.0f);
-  for (const BounceLight& light : scene.lights()) {
-    switch (light.type) {
-      case BOUNCE_LIGHT_POINT:
-      case BOUNCE_LIGHT_SPOT:
-        sum += point_irradiance(light, y, n, context);
-        break;
-      case BOUNCE_LIGHT_SUN:
-        sum += sun_irradiance(light, y, n, context);
-        break;
-      default:
-        sum += area_irradiance(light, y, n, context);
-        break;
-    }
-  }
-  return sum;
+  return cpu::direct_irradiance(scene.lights(), y, n, {scene.bvh(), offset, options.light_samples}, rng);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "bounce/bounce.h"
+#include "cpu/topology_renderer.h"
 #include "engine.h"
 #include "error.h"
 #include "settings.h"
@@ -133,6 +134,7 @@ BounceStatus bounce_scene_stats(BounceEngine* engine, BounceSceneStats* out) {
 int32_t bounce_aov_channels(int32_t aov) {
   switch (aov) {
     case BOUNCE_AOV_COMBINED:
+    case BOUNCE_AOV_TOPOLOGY:
       return 4;
     case BOUNCE_AOV_DIRECT:
     case BOUNCE_AOV_EMISSION:
@@ -150,8 +152,8 @@ int32_t bounce_aov_channels(int32_t aov) {
 }
 
 const char* bounce_aov_name(int32_t aov) {
-  static const char* const names[BOUNCE_AOV_COUNT] = {"Combined", "Direct",   "Emission", "Albedo",       "Normal",
-                                                      "Depth",    "Indirect", "VPLs",     "Second Bounce"};
+  static const char* const names[BOUNCE_AOV_COUNT] = {"Combined", "Direct",   "Emission", "Albedo",        "Normal",
+                                                      "Depth",    "Indirect", "VPLs",     "Second Bounce", "Topology"};
   return aov >= 0 && aov < BOUNCE_AOV_COUNT ? names[aov] : "";
 }
 
@@ -185,6 +187,32 @@ BounceStatus bounce_frame_info(BounceEngine* engine, BounceFrameInfo* out) {
 
 BounceStatus bounce_frame_read(BounceEngine* engine, int32_t aov, float* dst, size_t float_count) {
   return guarded([&] { engine_of(engine).frame_read(aov, dst, float_count); });
+}
+
+BounceStatus bounce_topology_info(BounceEngine* engine, BounceTopologyInfo* out) {
+  return guarded([&] {
+    bounce::require(out != nullptr, "out is NULL");
+    *out = BounceTopologyInfo{};
+    const auto topology = engine_of(engine).topology();
+    if (!topology) return;
+    out->available = 1;
+    const glm::ivec3 dims = topology->grid.shape.dims;
+    out->grid[0] = dims.x;
+    out->grid[1] = dims.y;
+    out->grid[2] = dims.z;
+    out->voxel_size = static_cast<float>(topology->grid.shape.voxel_size);
+    out->skeleton_nodes = static_cast<uint32_t>(topology->skeleton.position.size());
+    out->segmented_nodes = static_cast<uint32_t>(topology->segmented.original.size());
+    out->clusters = topology->cluster_count;
+    out->gates = static_cast<uint32_t>(topology->gates.size());
+    out->builds = bounce::cpu::topology_builds();
+    static_assert(int(bounce::topology::BuildStage::Count) == BOUNCE_TOPOLOGY_STAGES);
+    for (int stage = 0; stage < BOUNCE_TOPOLOGY_STAGES; ++stage) {
+      std::strncpy(out->stage_names[stage], bounce::topology::build_stage_name(bounce::topology::BuildStage(stage)),
+                   sizeof out->stage_names[stage] - 1);
+      out->stage_ms[stage] = topology->stage_ms[std::size_t(stage)];
+    }
+  });
 }
 
 }  // extern "C"

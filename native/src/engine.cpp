@@ -58,7 +58,7 @@ void Engine::remove_mesh(uint64_t key) {
 
 void Engine::set_texture(uint64_t key, int32_t width, int32_t height, int32_t format, const void* pixels) {
   auto data = prepare_texture(key, width, height, format, pixels);
-  post_scene_edit([this, key, data] { renderer_->scene().set_texture(key, *data); });
+  post_scene_edit([this, key, data] { renderer_->scene().set_texture(key, data); });
 }
 
 void Engine::remove_texture(uint64_t key) {
@@ -106,6 +106,7 @@ void Engine::render_start(const BounceSettings& settings, const BounceCamera& ca
     progress_.samples_done = 0;
     progress_.samples_total = settings.samples;
     progress_.progress = 0.0f;
+    progress_.stage[0] = '\0';
     render_status_ = BOUNCE_OK;
     render_error_.clear();
   }
@@ -147,6 +148,14 @@ void Engine::run_render(const BounceSettings& settings, const BounceCamera& came
       if (generation != generation_.load()) return;
       progress_.samples_done = samples_done;
       progress_.progress = fraction;
+      progress_.stage[0] = '\0';
+    };
+    callbacks.status = [this, generation](const char* stage, float fraction) {
+      std::lock_guard lock(mutex_);
+      if (generation != generation_.load()) return;
+      std::strncpy(progress_.stage, stage, sizeof progress_.stage - 1);
+      progress_.stage[sizeof progress_.stage - 1] = '\0';
+      progress_.progress = fraction;
     };
     callbacks.publish = [this, generation](std::shared_ptr<Frame> frame) {
       std::lock_guard lock(mutex_);
@@ -157,6 +166,10 @@ void Engine::run_render(const BounceSettings& settings, const BounceCamera& came
       state_changed_.notify_all();
     };
     const bool completed = renderer_->render(settings, camera, callbacks);
+    if (auto topology = renderer_->topology()) {
+      std::lock_guard lock(mutex_);
+      topology_ = std::move(topology);
+    }
     finish(generation, completed ? BOUNCE_RENDER_DONE : BOUNCE_RENDER_CANCELLED,
            completed ? BOUNCE_OK : BOUNCE_ERROR_CANCELLED, completed ? "" : "the render was cancelled");
   } catch (const Error& e) {
@@ -207,6 +220,11 @@ void Engine::frame_read(int32_t aov, float* dst, std::size_t float_count) {
     std::memcpy(dst, frame->aovs[aov].data(), expected * sizeof(float));
   else
     std::fill(dst, dst + expected, 0.0f);  // not written by the frame's method
+}
+
+std::shared_ptr<const topology::Topology> Engine::topology() {
+  std::lock_guard lock(mutex_);
+  return topology_;
 }
 
 }  // namespace bounce

@@ -15,6 +15,9 @@
 namespace bounce {
 
 class Renderer;
+namespace topology {
+struct Topology;
+}
 
 class Engine {
  public:
@@ -38,6 +41,8 @@ class Engine {
   BounceFrameInfo frame_info();
   void frame_read(int32_t aov, float* dst, std::size_t float_count);
   const std::string& gl_description() const { return thread_.gl_description(); }
+  // The topology the last TOPOLOGY render used; nullptr before one.
+  std::shared_ptr<const topology::Topology> topology();
 
  private:
   // Runs a scene edit on the render thread; a failure there (e.g. out of GPU memory) fails the next render.
@@ -54,7 +59,8 @@ class Engine {
   BounceStatus render_status_ = BOUNCE_OK;
   std::string render_error_;
   std::string scene_error_;
-  std::shared_ptr<const Frame> frame_;      // the latest published frame
+  std::shared_ptr<const Frame> frame_;  // the latest published frame
+  std::shared_ptr<const topology::Topology> topology_;
   std::shared_ptr<const Frame> described_;  // the frame the last frame_info() described, for frame_read()
   uint64_t frame_serial_ = 0;
 

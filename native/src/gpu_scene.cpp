@@ -69,7 +69,8 @@ void GpuScene::set_mesh(uint64_t key, std::shared_ptr<const MeshData> mesh) {
 
 void GpuScene::remove_mesh(uint64_t key) { dirty_ |= meshes_.erase(key) > 0; }
 
-void GpuScene::set_texture(uint64_t key, const TextureData& data) {
+void GpuScene::set_texture(uint64_t key, std::shared_ptr<const TextureData> texture) {
+  const TextureData& data = *texture;
   GpuTexture gpu;
   const int levels = mip_levels(data.width, data.height);
   gpu.texture = gl::make_texture_2d(internal_format(data.format), data.width, data.height, levels);
@@ -83,6 +84,7 @@ void GpuScene::set_texture(uint64_t key, const TextureData& data) {
   glGenerateTextureMipmap(id);
   gl::check("uploading a texture");
   gpu.bytes = data.bytes.size() * 4 / 3;
+  gpu.data = std::move(texture);
   textures_[key] = std::move(gpu);
   dirty_ = true;
 }
@@ -213,6 +215,27 @@ BounceSceneStats GpuScene::stats() const {
     s.bounds_max[a] = bounds_max_[a];
   }
   return s;
+}
+
+std::vector<GpuScene::DrawnPart> GpuScene::drawn_parts() const {
+  std::vector<DrawnPart> parts;
+  if (!instances_) return parts;
+  for (const InstanceData& instance : instances_->instances) {
+    const auto mesh = meshes_.find(instance.mesh_key);
+    if (mesh == meshes_.end()) continue;
+    for (const SubMesh& submesh : mesh->second.data->submeshes) {
+      const auto slot = static_cast<std::size_t>(submesh.slot);
+      const uint32_t material = slot < instance.slot_materials.size() ? instance.slot_materials[slot] : UINT32_MAX;
+      parts.push_back({*mesh->second.data, instance, submesh,
+                       material < materials_.size() ? materials_[material] : default_material_});
+    }
+  }
+  return parts;
+}
+
+const TextureData* GpuScene::texture_data(uint64_t key) const {
+  const auto texture = textures_.find(key);
+  return texture == textures_.end() ? nullptr : texture->second.data.get();
 }
 
 }  // namespace bounce

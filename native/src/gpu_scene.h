@@ -33,7 +33,8 @@ class GpuScene {
 
   void set_mesh(uint64_t key, std::shared_ptr<const MeshData> mesh);
   void remove_mesh(uint64_t key);
-  void set_texture(uint64_t key, const TextureData& texture);
+  // The pixels stay on the CPU too, for the topology method's CPU renderer.
+  void set_texture(uint64_t key, std::shared_ptr<const TextureData> texture);
   void remove_texture(uint64_t key);
   void set_materials(std::vector<BounceMaterial> materials);
   void set_instances(std::shared_ptr<const InstanceList> instances);
@@ -58,6 +59,17 @@ class GpuScene {
   glm::vec3 bounds_min() const { return bounds_min_; }
   glm::vec3 bounds_max() const { return bounds_max_; }
   bool has_geometry() const { return !batches_.empty(); }
+
+  // The drawn geometry for CPU renderers, after prepare(): each instance's submeshes with their materials.
+  struct DrawnPart {
+    const MeshData& mesh;
+    const InstanceData& instance;
+    const SubMesh& submesh;
+    const BounceMaterial& material;
+  };
+  std::vector<DrawnPart> drawn_parts() const;
+  // The pixels of a texture; nullptr for BOUNCE_NO_TEXTURE or a key not set.
+  const TextureData* texture_data(uint64_t key) const;
   BounceSceneStats stats() const;
 
  private:
@@ -66,6 +78,7 @@ class GpuScene {
     gl::Buffer vertices;
   };
   struct GpuTexture {
+    std::shared_ptr<const TextureData> data;
     gl::Texture texture;
     uint64_t bytes = 0;
   };
@@ -81,6 +94,7 @@ class GpuScene {
   std::map<uint64_t, GpuMesh> meshes_;
   std::map<uint64_t, GpuTexture> textures_;
   std::vector<BounceMaterial> materials_;
+  BounceMaterial default_material_ = default_material();
   std::shared_ptr<const InstanceList> instances_;
   LightList lights_;
   BounceWorld world_{};

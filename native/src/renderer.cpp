@@ -33,6 +33,7 @@ Renderer::Renderer() : settings_buffer_(gl::make_buffer(sizeof(BounceSettings), 
 
 bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks) {
   scene_.prepare();
+  if (settings.method == BOUNCE_METHOD_TOPOLOGY) return topology_.render(scene_, settings, camera, callbacks, timer_);
   glNamedBufferSubData(settings_buffer_.id(), 0, sizeof settings, &settings);
   glBindBufferBase(GL_UNIFORM_BUFFER, binding::kSettingsBlock, settings_buffer_.id());
   int x0 = camera.crop[0], y0 = camera.crop[1], x1 = camera.crop[2], y1 = camera.crop[3];

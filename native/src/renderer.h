@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "bounce/bounce.h"
+#include "cpu/topology_renderer.h"
 #include "frame.h"
 #include "gpu_scene.h"
 #include "passes/compose/compose_pass.h"
@@ -17,15 +18,10 @@
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/shadows/shadow_pass.h"
 #include "passes/ssvp/ssvp_pass.h"
+#include "render_callbacks.h"
 #include "stage_timer.h"
 
 namespace bounce {
-
-struct RenderCallbacks {
-  std::function<bool()> cancelled;
-  std::function<void(std::shared_ptr<Frame>)> publish;  // progressive frames and the final one
-  std::function<void(int samples_done, float progress)> progress;
-};
 
 // The crop-and-jitter matrix that maps the clip space of the whole image to that of a tile, with the sample
 // offset `jitter` in pixels. Exposed for tests.
@@ -35,6 +31,8 @@ class Renderer {
  public:
   Renderer();
   GpuScene& scene() { return scene_; }
+  // The topology the last TOPOLOGY render used; nullptr before one.
+  std::shared_ptr<const topology::Topology> topology() const { return topology_.topology(); }
   // Returns false when cancelled.
   bool render(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks);
 
@@ -48,6 +46,7 @@ class Renderer {
   FlcPass flc_;
   SsvpPass ssvp_;
   ComposePass compose_;
+  cpu::TopologyRenderer topology_;
 };
 
 }  // namespace bounce

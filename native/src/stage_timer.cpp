@@ -32,6 +32,20 @@ const char* stage_name(Stage stage) {
       return "SSVP shading";
     case Stage::SsvpDenoise:
       return "SSVP denoise";
+    case Stage::TopologyPrecompute:
+      return "Topology Precompute";
+    case Stage::TopologyVpls:
+      return "Topology VPLs";
+    case Stage::TopologyPrimary:
+      return "Topology Primary";
+    case Stage::TopologyDirect:
+      return "Topology Direct";
+    case Stage::TopologyAssign:
+      return "Topology Assign";
+    case Stage::TopologyIndirect:
+      return "Topology Indirect";
+    case Stage::TopologyDebug:
+      return "Topology Debug";
     case Stage::Compose:
       return "Compose";
     case Stage::Readback:

@@ -14,16 +14,23 @@ enum class Stage {
   GBuffer,
   Shadows,
   Direct,
-  FlcRegular,       // Forward Light Cuts: regular pipeline (decimation, partition, VPLs)
-  FlcDivergent,     // subdivision of the divergent triangles
-  FlcLighting,      // direct irradiance at the VPLs
-  FlcSplat,         // splatting into the interleaved sub-images
-  FlcResolve,       // untiling and blur
-  SsvpRsm,          // Screen-Space VPL Propagation: the main light's reflective shadow map
-  SsvpCluster,      // first-bounce sampling, k-means, second-bounce propagation (the paper's "Misc")
-  SsvpParaboloids,  // one paraboloid map per cluster
-  SsvpShade,        // interleaved shading of both bounces, debug view
-  SsvpDenoise,      // geometry-aware blur
+  FlcRegular,          // Forward Light Cuts: regular pipeline (decimation, partition, VPLs)
+  FlcDivergent,        // subdivision of the divergent triangles
+  FlcLighting,         // direct irradiance at the VPLs
+  FlcSplat,            // splatting into the interleaved sub-images
+  FlcResolve,          // untiling and blur
+  SsvpRsm,             // Screen-Space VPL Propagation: the main light's reflective shadow map
+  SsvpCluster,         // first-bounce sampling, k-means, second-bounce propagation (the paper's "Misc")
+  SsvpParaboloids,     // one paraboloid map per cluster
+  SsvpShade,           // interleaved shading of both bounces, debug view
+  SsvpDenoise,         // geometry-aware blur
+  TopologyPrecompute,  // the topology of the empty space (cached: only the first render of a scene)
+  TopologyVpls,        // VPL paths from the lights (CPU, Embree)
+  TopologyPrimary,     // primary rays and the view samples' visibility clusters
+  TopologyDirect,      // direct light by shadow rays
+  TopologyAssign,      // geometry clusters and light assignment (paper Sec. V.B-C)
+  TopologyIndirect,    // gathering the assigned VPLs (Sec. V.D)
+  TopologyDebug,       // the Topology pass
   Compose,
   Readback,
   Count

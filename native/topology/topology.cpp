@@ -32,14 +32,20 @@ const char* build_stage_name(BuildStage stage) {
   return "?";
 }
 
-uint32_t Topology::node_at(glm::vec3 p, glm::vec3 n) const {
+uint32_t Topology::node_at(glm::vec3 p, glm::vec3 n, Side side, const Reachable& reachable) const {
   const GridShape& shape = grid.shape;
   if (shape.empty() || !std::isfinite(p.x + p.y + p.z)) return kNoNode;
   if (!std::isfinite(n.x + n.y + n.z)) n = glm::vec3(0.0f);
-  const auto node_in = [&](glm::ivec3 v) { return shape.inside(v) ? skeleton.voxel_node[shape.index(v)] : kNoNode; };
-  for (double side : {1.0, -1.0}) {
+  const auto node_in = [&](glm::ivec3 v) {
+    if (!shape.inside(v)) return kNoNode;
+    const uint32_t node = skeleton.voxel_node[shape.index(v)];
+    return node == kNoNode || !reachable || reachable(p, glm::vec3(shape.centre(v))) ? node : kNoNode;
+  };
+  const bool front = side == Side::Front && glm::dot(n, n) > 0.0f;
+  for (double sign : {1.0, -1.0}) {
+    if (front && sign < 0.0) break;
     for (double step = 0.5; step <= 2.0 && glm::dot(n, n) > 0.0f; step += 0.5) {
-      const uint32_t node = node_in(shape.voxel_at(glm::dvec3(p) + side * step * shape.voxel_size * glm::dvec3(n)));
+      const uint32_t node = node_in(shape.voxel_at(glm::dvec3(p) + sign * step * shape.voxel_size * glm::dvec3(n)));
       if (node != kNoNode) return node;
     }
   }
@@ -48,6 +54,7 @@ uint32_t Topology::node_at(glm::vec3 p, glm::vec3 n) const {
   double best = 1e300;
   if (nearest != kNoNode) return nearest;
   for (const glm::ivec3& o : neighbour_offsets()) {
+    if (front && glm::dot(glm::vec3(o), n) <= 0.0f) continue;
     const uint32_t node = node_in(v + o);
     const double d = glm::distance(shape.centre(v + o), glm::dvec3(p));
     if (node != kNoNode && d < best) nearest = node, best = d;
@@ -55,7 +62,9 @@ uint32_t Topology::node_at(glm::vec3 p, glm::vec3 n) const {
   return nearest;
 }
 
-uint32_t Topology::cluster_at(glm::vec3 p, glm::vec3 n) const { return cluster_of_node(node_at(p, n)); }
+uint32_t Topology::cluster_at(glm::vec3 p, glm::vec3 n, Side side, const Reachable& reachable) const {
+  return cluster_of_node(node_at(p, n, side, reachable));
+}
 
 std::string Topology::summary() const {
   std::string s;

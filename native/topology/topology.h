@@ -42,12 +42,21 @@ struct Topology {
   std::vector<Gate> gates;
   std::array<double, size_t(BuildStage::Count)> stage_ms{};
 
-  // The skeleton node nearest, through the empty space, to a point on a surface with normal n (either side):
-  // the first empty voxel from p along n, then along -n, then the nearest empty neighbour of p's voxel.
-  // kNoNode when p is not finite, outside the grid, or walled in.
-  uint32_t node_at(glm::vec3 p, glm::vec3 n) const;
+  // Which side of a surface point a lookup may take.
+  enum class Side {
+    Either,  // n is any normal of the surface
+    Front,   // n points into the side that matters (a view sample's toward the camera, a VPL's lit side)
+  };
+  // The skeleton node nearest, through the empty space, to a point on a surface with normal n: the first empty
+  // voxel from p along n, then (Either) along -n, then the nearest empty neighbour of p's voxel (Front: among
+  // those on n's side). kNoNode when p is not finite, outside the grid, or walled in on that side.
+  // `reachable`, when given, must accept the segment from p to a voxel's centre for that voxel to count: a
+  // renderer with a ray tracer passes its occlusion test, so that a point inside a block thinner than the
+  // steps does not reach through it.
+  using Reachable = std::function<bool(glm::vec3 from, glm::vec3 to)>;
+  uint32_t node_at(glm::vec3 p, glm::vec3 n, Side side = Side::Either, const Reachable& reachable = {}) const;
   // The visibility cluster of that node, kNoNode likewise.
-  uint32_t cluster_at(glm::vec3 p, glm::vec3 n) const;
+  uint32_t cluster_at(glm::vec3 p, glm::vec3 n, Side side = Side::Either, const Reachable& reachable = {}) const;
   uint32_t cluster_of_node(uint32_t node) const {
     return node == kNoNode ? kNoNode : cluster_of[segmented.segmented_of[node]];
   }

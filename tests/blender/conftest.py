@@ -7,7 +7,9 @@ and writes EXR/JSON files that the tests read here with numpy and OpenImageIO.
 Environment:
   BOUNCE_BLENDER_CHROOT   run Blender inside that chroot (`scripts/chroot run NAME -- scripts/blender ...`):
                           trixie = Blender 4.3, sid = Blender 5.2. Unset: the host's Blender (3.4).
-  BOUNCE_BUILD_DIR        the CMake build folder holding addon/bounce (default: <repo>/build)
+  BOUNCE_BUILD_DIR        the CMake build folder holding addon/bounce (default: <repo>/build); test outputs go there
+  BOUNCE_ADDON_BUILD_DIR  the build folder of the add-on instead, when it differs: scripts/test builds the add-on
+                          inside each chroot, against that release's libraries (Embree 4 from Debian 13 on)
   BOUNCE_SHARED_SCENES    the third-party scenes (default: <repo>/../shared/scenes)
   BOUNCE_TEST_TIMEOUT     seconds one Blender run may take (default 600)
 
@@ -32,7 +34,7 @@ HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 SCRIPTS = HERE / "scripts"
 BUILD = Path(os.environ.get("BOUNCE_BUILD_DIR") or REPO / "build").resolve()
-ADDON = BUILD / "addon" / "bounce"
+ADDON = Path(os.environ.get("BOUNCE_ADDON_BUILD_DIR") or BUILD).resolve() / "addon" / "bounce"
 SHARED_SCENES = Path(os.environ.get("BOUNCE_SHARED_SCENES") or REPO.parent / "shared" / "scenes").resolve()
 CHROOT = os.environ.get("BOUNCE_BLENDER_CHROOT") or None
 TAG = CHROOT or "host"

@@ -30,7 +30,7 @@ def read_png(path):
     return pixels.reshape(image.spec().height, image.spec().width, -1)
 
 
-@pytest.fixture(scope="module", params=["FLC", "SSVP"])
+@pytest.fixture(scope="module", params=["FLC", "SSVP", "TOPOLOGY"])
 def viewport_run(blender, out_root, request):
     if shutil.which("xvfb-run") is None and not CHROOT:
         pytest.skip("xvfb-run is not installed (package xvfb)")

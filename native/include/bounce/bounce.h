@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 2
+#define BOUNCE_API_VERSION 3
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,
@@ -70,7 +70,8 @@ typedef enum BounceMethod {
   BOUNCE_METHOD_AUTO = 0,
   BOUNCE_METHOD_DIRECT = 1,
   BOUNCE_METHOD_FLC = 2,
-  BOUNCE_METHOD_SSVP = 3
+  BOUNCE_METHOD_SSVP = 3,
+  BOUNCE_METHOD_TOPOLOGY = 4
 } BounceMethod;
 
 BOUNCE_API size_t bounce_settings_size(void);
@@ -237,14 +238,16 @@ typedef enum BounceAov {
   BOUNCE_AOV_VPLS = 7,          /* RGB: debug view of one sample's virtual point lights (FLC: coloured by level;
                                    SSVP: by cluster, with the cluster centres as large dots) */
   BOUNCE_AOV_SECOND_BOUNCE = 8, /* RGB: the second diffuse bounce alone, reflected (SSVP; part of Indirect) */
-  BOUNCE_AOV_COUNT = 9
+  BOUNCE_AOV_TOPOLOGY = 9,      /* RGBA: debug view of the topology (visibility clusters in colours, skeleton
+                                   balls, gates as disks, per the topology_show_* settings); alpha = coverage */
+  BOUNCE_AOV_COUNT = 10
 } BounceAov;
 
 BOUNCE_API int32_t bounce_aov_channels(int32_t aov); /* 4, 3 or 1; 0 for an unknown AOV */
 BOUNCE_API const char* bounce_aov_name(int32_t aov); /* "Combined", "Direct", ... */
 /* The AOVs a method writes, as bits 1 << aov: every method writes Combined, Direct, Emission, Albedo, Normal and
- * Depth; FLC and SSVP add Indirect and VPLs, SSVP Second Bounce. A frame holds these only (large frames need
- * the memory); bounce_frame_read returns zeros for the others. */
+ * Depth; FLC and SSVP add Indirect and VPLs, SSVP Second Bounce, TOPOLOGY Indirect and Topology. A frame holds these
+ * only (large frames need the memory); bounce_frame_read returns zeros for the others. */
 BOUNCE_API uint32_t bounce_method_aovs(int32_t method);
 
 /* Starts a render of settings->samples progressive samples (copied) in the background. A render already
@@ -267,6 +270,8 @@ typedef struct BounceRenderProgress {
   int32_t samples_total;
   float progress;        /* 0..1 over samples and tiles */
   uint64_t frame_serial; /* increments each time a readable frame is published */
+  char stage[64];        /* what runs now when it is not sampling, e.g. "Topology: thinning" (precomputation,
+                            whose share of `progress` comes first); "" otherwise */
 } BounceRenderProgress;
 
 BOUNCE_API BounceStatus bounce_render_progress(BounceEngine* engine, BounceRenderProgress* out);
@@ -292,7 +297,7 @@ typedef struct BounceFrameInfo {
   uint64_t vpl_count;           /* virtual point lights of the last sample (FLC, SSVP: both bounces) */
   uint64_t divergent_triangles; /* triangles the last sample sent to the tessellator (FLC) */
   int32_t main_light;           /* SSVP: the light that bounces, as its index in bounce_lights_set's list; -1 none */
-  int32_t cluster_count;        /* SSVP: k-means clusters of the last sample */
+  int32_t cluster_count;        /* SSVP: k-means clusters of the last sample; TOPOLOGY: visibility clusters */
 } BounceFrameInfo;
 
 /* The most recently published frame: after each progressive sample of a render (viewport) and at its end.
@@ -303,6 +308,27 @@ BOUNCE_API BounceStatus bounce_frame_info(BounceEngine* engine, BounceFrameInfo*
  * interleaved: dst holds width * height * bounce_aov_channels(aov) floats. BOUNCE_ERROR_NOT_READY when
  * bounce_frame_info has not returned a frame yet. */
 BOUNCE_API BounceStatus bounce_frame_read(BounceEngine* engine, int32_t aov, float* dst, size_t float_count);
+
+/* ---- Topology (method TOPOLOGY) --------------------------------------------------------------------------- */
+
+#define BOUNCE_TOPOLOGY_STAGES 6
+
+/* The topology of the empty space the engine's last TOPOLOGY render used (built then, or found in the
+ * process-wide cache). */
+typedef struct BounceTopologyInfo {
+  int32_t available; /* 0 until a TOPOLOGY render has run on this engine; the rest is then zero */
+  int32_t grid[3];   /* voxels per axis */
+  float voxel_size;  /* world units */
+  uint32_t skeleton_nodes;
+  uint32_t segmented_nodes;
+  uint32_t clusters;                            /* visibility clusters */
+  uint32_t gates;                               /* visibility gates */
+  uint64_t builds;                              /* topologies built in this process so far (the cache's misses) */
+  char stage_names[BOUNCE_TOPOLOGY_STAGES][24]; /* "voxelize", "distance transform", "thinning", ... */
+  double stage_ms[BOUNCE_TOPOLOGY_STAGES];      /* precomputation wall time per stage, when it was built */
+} BounceTopologyInfo;
+
+BOUNCE_API BounceStatus bounce_topology_info(BounceEngine* engine, BounceTopologyInfo* out);
 
 #ifdef __cplusplus
 }

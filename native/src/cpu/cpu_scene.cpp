@@ -1,0 +1,124 @@
+#include "cpu/cpu_scene.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <map>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/vec4.hpp>
+
+#include "cpu/random.h"
+
+namespace bounce::cpu {
+namespace {
+
+const std::array<float, 256>& srgb_to_linear() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) {
+      const float c = float(i) / 255.0f;
+      t[std::size_t(i)] = c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+    }
+    return t;
+  }();
+  return table;
+}
+
+glm::vec3 texel(const TextureData& texture, int x, int y) {
+  x = ((x % texture.width) + texture.width) % texture.width;  // GL_REPEAT, as the GPU samples
+  y = ((y % texture.height) + texture.height) % texture.height;
+  const std::size_t index = std::size_t(y) * std::size_t(texture.width) + std::size_t(x);
+  if (texture.format == BOUNCE_TEXTURE_RGBA32F) {
+    const auto* f = reinterpret_cast<const float*>(texture.bytes.data()) + 4 * index;
+    return {f[0], f[1], f[2]};
+  }
+  const unsigned char* b = texture.bytes.data() + 4 * index;
+  if (texture.format == BOUNCE_TEXTURE_RGBA8_SRGB)
+    return {srgb_to_linear()[b[0]], srgb_to_linear()[b[1]], srgb_to_linear()[b[2]]};
+  return glm::vec3(b[0], b[1], b[2]) / 255.0f;
+}
+
+// Bilinear, rows bottom first, like the GPU's GL_LINEAR level 0.
+glm::vec3 sample(const TextureData& texture, glm::vec2 uv) {
+  const float x = uv.x * float(texture.width) - 0.5f, y = uv.y * float(texture.height) - 0.5f;
+  if (!std::isfinite(x) || !std::isfinite(y) || std::abs(x) > 1e8f || std::abs(y) > 1e8f) return texel(texture, 0, 0);
+  const float fx = std::floor(x), fy = std::floor(y);
+  const int x0 = int(fx), y0 = int(fy);
+  const float tx = x - fx, ty = y - fy;
+  return (1 - ty) * ((1 - tx) * texel(texture, x0, y0) + tx * texel(texture, x0 + 1, y0)) +
+         ty * ((1 - tx) * texel(texture, x0, y0 + 1) + tx * texel(texture, x0 + 1, y0 + 1));
+}
+
+glm::vec3 load3(const float v[3]) { return {v[0], v[1], v[2]}; }
+
+}  // namespace
+
+bool CpuScene::sync(const GpuScene& scene) {
+  if (scene.geometry_version() == version_) return false;
+  version_ = scene.geometry_version();
+  positions_.clear();
+  normals_.clear();
+  uvs_.clear();
+  material_of_.clear();
+  materials_.clear();
+  std::map<const BounceMaterial*, uint32_t> material_index;
+  for (const GpuScene::DrawnPart& part : scene.drawn_parts()) {
+    auto [entry, added] = material_index.try_emplace(&part.material, uint32_t(materials_.size()));
+    if (added) {
+      const BounceMaterial& m = part.material;
+      const TextureData* texture = scene.texture_data(m.base_color_texture);
+      const bool usable = texture && texture->width > 0 && texture->height > 0;
+      materials_.push_back({load3(m.base_color), load3(m.emission), usable ? texture : nullptr});
+    }
+    const glm::mat4& to_world = part.instance.object_to_world;
+    const glm::mat3 normal_to_world(part.instance.normal_to_world);
+    for (uint32_t i = 0; i < part.submesh.vertex_count; ++i) {
+      const Vertex& vertex = part.mesh.vertices[part.submesh.first_vertex + i];
+      positions_.push_back(glm::vec3(to_world * glm::vec4(load3(vertex.position), 1.0f)));
+      const glm::vec3 n = normal_to_world * load3(vertex.normal);
+      const float length = glm::length(n);
+      normals_.push_back(length > 0.0f && std::isfinite(length) ? n / length : glm::vec3(0.0f));
+      uvs_.push_back({vertex.uv[0], vertex.uv[1]});
+    }
+    material_of_.insert(material_of_.end(), part.submesh.vertex_count / 3, entry->second);
+  }
+  hash_ = mix(positions_.size());
+  for (const glm::vec3& p : positions_)
+    for (int c = 0; c < 3; ++c) hash_ = mix(hash_ ^ std::bit_cast<uint32_t>(p[c]));
+  bvh_ = std::make_unique<embree::Scene>(device_);
+  bvh_->add_triangles(positions_);
+  bvh_->commit();
+  return true;
+}
+
+float CpuScene::radius() const {
+  if (positions_.empty()) return 0.0f;
+  return 0.5f * glm::length(bounds_max() - bounds_min());
+}
+
+glm::vec3 CpuScene::albedo(uint32_t triangle, float u, float v) const {
+  const Material& material = materials_[material_of_[triangle]];
+  if (!material.texture) return material.base_color;
+  const glm::vec2 uv = (1.0f - u - v) * uvs_[3 * triangle] + u * uvs_[3 * triangle + 1] + v * uvs_[3 * triangle + 2];
+  return material.base_color * sample(*material.texture, uv);
+}
+
+Surface CpuScene::surface(const embree::Hit& hit, glm::vec3 dir) const {
+  const uint32_t t = hit.prim_id;
+  const float w = 1.0f - hit.u - hit.v;
+  Surface s;
+  s.position = w * positions_[3 * t] + hit.u * positions_[3 * t + 1] + hit.v * positions_[3 * t + 2];
+  s.normal = glm::dot(hit.normal, dir) > 0.0f ? -hit.normal : hit.normal;
+  glm::vec3 shading = w * normals_[3 * t] + hit.u * normals_[3 * t + 1] + hit.v * normals_[3 * t + 2];
+  const float length = glm::length(shading);
+  shading = length > 0.0f && std::isfinite(length) ? shading / length : s.normal;
+  s.shading_normal = glm::dot(shading, s.normal) < 0.0f ? -shading : shading;
+  s.albedo = albedo(t, hit.u, hit.v);
+  s.emission = materials_[material_of_[t]].emission;
+  return s;
+}
+
+}  // namespace bounce::cpu

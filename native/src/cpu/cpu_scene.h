@@ -1,0 +1,62 @@
+// The scene as the CPU renderer sees it: every drawn triangle in world space, with its shading normals, UVs and
+// material, and an Embree BVH over them. Built from the GpuScene's CPU-side data on the render thread.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "embree/embree_device.h"
+#include "gpu_scene.h"
+
+namespace bounce::cpu {
+
+struct Surface {
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f};          // unit geometric normal, turned toward the incoming ray
+  glm::vec3 shading_normal{0.0f};  // unit interpolated normal, on the same side
+  glm::vec3 albedo{0.0f};          // base colour times the texture
+  glm::vec3 emission{0.0f};
+};
+
+class CpuScene {
+ public:
+  // Rebuilds from `scene` (prepared) when its geometry changed since the last call; returns whether it did.
+  // Alpha cut-outs are opaque here.
+  bool sync(const GpuScene& scene);
+
+  const embree::Scene& bvh() const { return *bvh_; }
+  std::span<const glm::vec3> soup() const { return positions_; }  // three corners per triangle
+  std::size_t triangle_count() const { return positions_.size() / 3; }
+  // Of every corner position: the key of the topology cache.
+  uint64_t geometry_hash() const { return hash_; }
+  glm::vec3 bounds_min() const { return bvh_->bounds_min(); }
+  glm::vec3 bounds_max() const { return bvh_->bounds_max(); }
+  float radius() const;  // half the bounding box diagonal; 0 when empty
+
+  // The surface at a hit of a ray with direction `dir`.
+  Surface surface(const embree::Hit& hit, glm::vec3 dir) const;
+
+ private:
+  struct Material {
+    glm::vec3 base_color{0.8f};
+    glm::vec3 emission{0.0f};
+    const TextureData* texture = nullptr;  // owned by the GpuScene, which outlives every sync
+  };
+  glm::vec3 albedo(uint32_t triangle, float u, float v) const;
+
+  uint64_t version_ = 0;
+  std::vector<glm::vec3> positions_, normals_;
+  std::vector<glm::vec2> uvs_;
+  std::vector<uint32_t> material_of_;  // per triangle
+  std::vector<Material> materials_;
+  uint64_t hash_ = 0;
+  std::shared_ptr<embree::Device> device_ = std::make_shared<embree::Device>();
+  std::unique_ptr<embree::Scene> bvh_ = std::make_unique<embree::Scene>(device_);
+};
+
+}  // namespace bounce::cpu

@@ -1,0 +1,524 @@
+#include "cpu/topology_renderer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <unordered_map>
+#include <utility>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
+
+#include "common/parallel.h"
+#include "cpu/direct_light.h"
+#include "cpu/random.h"
+#include "sampling.h"
+
+namespace bounce::cpu {
+namespace {
+
+using topology::kNoNode;
+
+constexpr float kPi = 3.14159265358979f;
+constexpr std::chrono::milliseconds kProgressivePublishInterval(250);
+constexpr int kDepthSlices = 16;           // clustered shading's exponential depth slices (Olsson et al. 2012)
+constexpr float kBackgroundDepth = 1e10f;  // Blender's Depth pass value where nothing is hit
+enum Purpose : uint64_t { kDirectLight = 21 };
+
+// ---- The process-wide topology cache ----------------------------------------------------------------------
+
+constexpr std::size_t kCachedTopologies = 2;  // the viewport's and an F12 render's, when their settings differ
+std::mutex cache_mutex;
+std::vector<std::pair<uint64_t, std::shared_ptr<const topology::Topology>>> cache;  // most recent last
+std::atomic<uint64_t> builds{0};
+
+std::shared_ptr<const topology::Topology> cached(uint64_t key) {
+  std::lock_guard lock(cache_mutex);
+  for (auto it = cache.begin(); it != cache.end(); ++it) {
+    if (it->first != key) continue;
+    auto entry = *it;
+    cache.erase(it);
+    cache.push_back(entry);
+    return entry.second;
+  }
+  return nullptr;
+}
+
+void store(uint64_t key, std::shared_ptr<const topology::Topology> value) {
+  std::lock_guard lock(cache_mutex);
+  if (cache.size() >= kCachedTopologies) cache.erase(cache.begin());
+  cache.emplace_back(key, std::move(value));
+}
+
+// ---- View samples -----------------------------------------------------------------------------------------
+
+struct ViewSample {
+  Surface surface;
+  glm::vec3 origin{0.0f}, direction{0.0f};  // the primary ray
+  float t = 0.0f;                           // its hit distance
+  float depth = kBackgroundDepth;           // along the view axis
+  uint32_t cluster = kNoNode;
+  bool hit = false;
+};
+
+// Sec. V.C: the cone from VPL p through gate g holds x when the segment p-x crosses the gate's plane inside the
+// disk (Fig. 11).
+bool in_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 x) {
+  const float side_p = glm::dot(p - gate.centre, gate.normal), side_x = glm::dot(x - gate.centre, gate.normal);
+  if (!(side_p * side_x < 0.0f)) return false;
+  const glm::vec3 crossing = p + (x - p) * (side_p / (side_p - side_x));
+  const glm::vec3 offset = crossing - gate.centre;
+  return glm::dot(offset, offset) <= gate.radius * gate.radius;
+}
+
+// Whether a bounding sphere may hold points of that cone: the sphere must reach beyond the gate's plane and
+// within the right circular cone from p enclosing the gate's bounding sphere.
+bool sphere_meets_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 centre, float radius) {
+  const float side_p = glm::dot(p - gate.centre, gate.normal);
+  if (side_p == 0.0f) return false;
+  const float beyond = -glm::dot(centre - gate.centre, gate.normal) * (side_p > 0.0f ? 1.0f : -1.0f);
+  if (beyond < -radius) return false;
+  const glm::vec3 axis = gate.centre - p, to_sphere = centre - p;
+  const float axis_length = glm::length(axis), distance = glm::length(to_sphere);
+  if (distance <= radius || axis_length <= gate.radius) return true;
+  const float cone = std::asin(std::min(1.0f, gate.radius / axis_length));
+  const float sphere = std::asin(std::min(1.0f, radius / distance));
+  const float angle = std::acos(std::clamp(glm::dot(axis, to_sphere) / (axis_length * distance), -1.0f, 1.0f));
+  return angle <= cone + sphere;
+}
+
+// A distinct, bright colour per visibility cluster.
+glm::vec3 cluster_colour(uint32_t cluster) {
+  const uint64_t h = mix(cluster + 1);
+  const float hue = float(h & 0xFFFF) / 65536.0f;
+  const glm::vec3 k = glm::abs(glm::fract(glm::vec3(hue) + glm::vec3(0.0f, 2.0f / 3.0f, 1.0f / 3.0f)) * 6.0f - 3.0f);
+  return 0.25f + 0.75f * glm::clamp(k - 1.0f, 0.0f, 1.0f);
+}
+
+struct Assignment {
+  uint32_t vpl;
+  uint32_t gate;  // kNoNode: same cluster, no test
+};
+
+// A sphere or a disk of the Topology pass, drawn where the primary ray meets it before the surface.
+struct Glyph {
+  glm::vec3 centre{0.0f};
+  glm::vec3 normal{0.0f};  // disks only
+  float radius = 0.0f;
+  bool disk = false;
+  glm::vec4 colour{0.0f};  // alpha: opacity over what lies behind
+};
+
+// Distance along the unit ray to the glyph, or infinity.
+float hit_glyph(const Glyph& glyph, glm::vec3 origin, glm::vec3 dir) {
+  const glm::vec3 to_centre = glyph.centre - origin;
+  if (glyph.disk) {
+    const float facing = glm::dot(dir, glyph.normal);
+    if (std::abs(facing) < 1e-8f) return std::numeric_limits<float>::infinity();
+    const float t = glm::dot(to_centre, glyph.normal) / facing;
+    const glm::vec3 offset = origin + dir * t - glyph.centre;
+    return t > 0.0f && glm::dot(offset, offset) <= glyph.radius * glyph.radius ? t
+                                                                               : std::numeric_limits<float>::infinity();
+  }
+  const float along = glm::dot(to_centre, dir);
+  const float d2 = glm::dot(to_centre, to_centre) - along * along, r2 = glyph.radius * glyph.radius;
+  if (d2 > r2) return std::numeric_limits<float>::infinity();
+  const float t = along - std::sqrt(r2 - d2);
+  return t > 0.0f ? t : std::numeric_limits<float>::infinity();
+}
+
+// The Topology pass (paper Figs. 2, 5, 9): surfaces in the colour of their visibility cluster, the skeleton's
+// nodes as spheres (segmented nodes: a quarter of their maximal ball, in their cluster's colour), gates as disks.
+// Drawn from the first sample's rays, through the pixel centres.
+void draw_topology_pass(const topology::Topology& topo, const BounceSettings& settings, const BounceCamera& camera,
+                        int x0, int y0, int width, int height, const std::vector<ViewSample>& view,
+                        std::vector<glm::vec4>& image) {
+  std::vector<Glyph> glyphs;
+  if (settings.topology_show_skeleton) {
+    const float dot = 0.5f * float(topo.grid.shape.voxel_size);
+    for (std::size_t n = 0; n < topo.skeleton.position.size(); ++n)
+      glyphs.push_back({topo.skeleton.position[n], {}, dot, false, {0.9f, 0.9f, 0.9f, 1.0f}});
+    for (std::size_t m = 0; m < topo.segmented.original.size(); ++m) {
+      const uint32_t node = topo.segmented.original[m];
+      glyphs.push_back({topo.skeleton.position[node],
+                        {},
+                        std::max(dot, 0.25f * topo.skeleton.radius[node]),
+                        false,
+                        glm::vec4(cluster_colour(topo.cluster_of[m]), 1.0f)});
+    }
+  }
+  if (settings.topology_show_gates)
+    for (const topology::Gate& gate : topo.gates)
+      glyphs.push_back({gate.centre, gate.normal, gate.radius, true, {0.2f, 0.45f, 1.0f, 0.7f}});
+  // Screen rectangles of the glyphs' bounding boxes, so each row tests only the glyphs that may cover it.
+  const glm::mat4 world_to_clip = glm::make_mat4(camera.projection) * glm::make_mat4(camera.world_to_view);
+  std::vector<glm::ivec4> rects(glyphs.size());
+  for (std::size_t g = 0; g < glyphs.size(); ++g) {
+    glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+    bool behind = false;
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 sign((corner & 1) ? 1.0f : -1.0f, (corner & 2) ? 1.0f : -1.0f, (corner & 4) ? 1.0f : -1.0f);
+      const glm::vec4 clip = world_to_clip * glm::vec4(glyphs[g].centre + sign * glyphs[g].radius, 1.0f);
+      if (!(clip.w > 0.0f)) {
+        behind = true;
+        break;
+      }
+      const glm::vec2 pixel = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * glm::vec2(camera.width, camera.height);
+      lo = glm::min(lo, pixel);
+      hi = glm::max(hi, pixel);
+    }
+    rects[g] = behind ? glm::ivec4(0, 0, width - 1, height - 1)
+                      : glm::ivec4(std::clamp(int(std::floor(lo.x)) - x0, -1, width),
+                                   std::clamp(int(std::floor(lo.y)) - y0, -1, height),
+                                   std::clamp(int(std::ceil(hi.x)) - x0, -1, width),
+                                   std::clamp(int(std::ceil(hi.y)) - y0, -1, height));
+  }
+  parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
+    const int y = int(row);
+    std::vector<std::pair<float, uint32_t>> hits;
+    for (int x = 0; x < width; ++x) {
+      const std::size_t i = row * std::size_t(width) + std::size_t(x);
+      const ViewSample& v = view[i];
+      glm::vec4 colour(0.0f);
+      if (settings.topology_show_clusters && v.hit && v.cluster != kNoNode) {
+        const float shade = 0.35f + 0.65f * std::abs(glm::dot(v.surface.normal, v.direction));
+        colour = glm::vec4(cluster_colour(v.cluster) * shade, 1.0f);
+      }
+      hits.clear();
+      const float surface_t = v.hit ? v.t : std::numeric_limits<float>::infinity();
+      for (std::size_t g = 0; g < glyphs.size(); ++g) {
+        const glm::ivec4& r = rects[g];
+        if (x < r.x || x > r.z || y < r.y || y > r.w) continue;
+        const float t = hit_glyph(glyphs[g], v.origin, v.direction);
+        if (t < surface_t) hits.emplace_back(t, uint32_t(g));
+      }
+      std::sort(hits.begin(), hits.end());
+      for (auto it = hits.rbegin(); it != hits.rend(); ++it) {  // back to front
+        const glm::vec4 c = glyphs[it->second].colour;
+        colour = glm::vec4(glm::mix(glm::vec3(colour), glm::vec3(c), c.a), c.a + colour.a * (1.0f - c.a));
+      }
+      image[i] = colour;
+    }
+  });
+}
+
+}  // namespace
+
+uint64_t topology_builds() { return builds.load(); }
+
+bool TopologyRenderer::prepare_topology(const BounceSettings& settings, const RenderCallbacks& callbacks) {
+  uint64_t key = mix(scene_.geometry_hash() ^ mix(uint64_t(settings.topology_resolution)));
+  uint32_t alpha_bits = 0;
+  std::memcpy(&alpha_bits, &settings.topology_alpha, sizeof alpha_bits);
+  key = mix(key ^ alpha_bits);
+  if (topology_ && key == topology_key_) return true;
+  if (auto found = cached(key)) {
+    topology_ = std::move(found);
+    topology_key_ = key;
+    return true;
+  }
+  topology::Settings topology_settings;
+  topology_settings.resolution = settings.topology_resolution;
+  topology_settings.alpha = settings.topology_alpha;
+  std::string stage_text;
+  try {
+    auto built = std::make_shared<topology::Topology>(
+        topology::build(scene_.soup(), topology_settings, [&](topology::BuildStage stage, float fraction) {
+          stage_text = std::string("Topology: ") + topology::build_stage_name(stage);
+          callbacks.status(stage_text.c_str(), 0.5f * fraction);
+          return !callbacks.cancelled();
+        }));
+    ++builds;
+    topology_ = std::move(built);
+  } catch (const topology::Cancelled&) {
+    return false;
+  }
+  topology_key_ = key;
+  store(key, topology_);
+  callbacks.status("", 0.5f);
+  return true;
+}
+
+void TopologyRenderer::prepare_vpls(const GpuScene& scene, const BounceSettings& settings, uint32_t seed) {
+  uint64_t key = mix(scene.light_version() ^ mix(topology_key_));
+  for (uint64_t v : {uint64_t(settings.topology_vpls), uint64_t(settings.topology_bounces), uint64_t(seed)})
+    key = mix(key ^ v);
+  if (key == vpl_key_) return;
+  VplOptions options;
+  options.bounces = settings.topology_bounces;
+  options.paths = (settings.topology_vpls + options.bounces - 1) / options.bounces;
+  options.seed = seed;
+  vpls_ = trace_vpls(scene_, scene.lights(), options);
+  vpl_cluster_.resize(vpls_.size());
+  // A VPL's cluster must be reachable from it: one inside a block thinner than the lookup's steps (a light
+  // inside a wall) would otherwise reach through to the room beyond.
+  const float offset = 2e-4f * scene_.radius();
+  parallel_for(vpls_.size(), 0, 64, [&](std::size_t i) {
+    const Vpl& vpl = vpls_[i];
+    const auto reachable = [&](glm::vec3 from, glm::vec3 to) {
+      from += vpl.normal * offset;
+      const float distance = glm::length(to - from);
+      return !(distance > 0.0f) || !scene_.bvh().occluded(from, (to - from) / distance, 0.0f, distance);
+    };
+    vpl_cluster_[i] = topology_->cluster_at(vpl.position, vpl.normal, topology::Topology::Side::Front, reachable);
+  });
+  vpl_key_ = key;
+}
+
+bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& settings, const BounceCamera& camera,
+                              const RenderCallbacks& callbacks, StageTimer& timer) {
+  int x0 = camera.crop[0], y0 = camera.crop[1], x1 = camera.crop[2], y1 = camera.crop[3];
+  if (x0 == 0 && y0 == 0 && x1 == 0 && y1 == 0) {
+    x1 = camera.width;
+    y1 = camera.height;
+  }
+  const int width = x1 - x0, height = y1 - y0;
+  const std::size_t pixels = std::size_t(width) * std::size_t(height);
+  const uint32_t seed = hash_combine(static_cast<uint32_t>(settings.seed), static_cast<uint32_t>(camera.frame));
+  const glm::vec2 jitter_rotation(hash_to_unit(hash_combine(seed, 101)), hash_to_unit(hash_combine(seed, 102)));
+  timer.reset();
+  {
+    StageScope scope(timer, Stage::TopologyPrecompute);
+    scene_.sync(scene);
+    if (!prepare_topology(settings, callbacks)) return false;
+  }
+  {
+    StageScope scope(timer, Stage::TopologyVpls);
+    prepare_vpls(scene, settings, static_cast<uint32_t>(settings.seed));
+  }
+  const topology::Topology& topo = *topology_;
+  std::vector<std::vector<uint32_t>> gates_of(topo.cluster_count);
+  for (std::size_t g = 0; g < topo.gates.size(); ++g)
+    for (uint32_t c : topo.gates[g].clusters)
+      if (c < topo.cluster_count) gates_of[c].push_back(uint32_t(g));
+
+  const glm::dmat4 world_to_view = glm::dmat4(glm::make_mat4(camera.world_to_view));
+  const glm::dmat4 clip_to_world = glm::inverse(glm::dmat4(glm::make_mat4(camera.projection)) * world_to_view);
+  const float radius = scene_.radius();
+  const float offset = 2e-4f * std::max(radius, 1e-30f);
+  const float clamp = settings.topology_distance_clamp * radius;
+  const ShadowRays direct_rays{scene_.bvh(), offset, 1};
+  const std::vector<BounceLight>& lights = scene.lights();
+  const BounceWorld& world = scene.world();
+
+  struct Sums {
+    std::vector<glm::vec3> combined, direct, emission, albedo, normal, indirect;
+    std::vector<float> depth;
+  } sums;
+  for (auto* v : {&sums.combined, &sums.direct, &sums.emission, &sums.albedo, &sums.normal, &sums.indirect})
+    v->assign(pixels, glm::vec3(0.0f));
+  sums.depth.assign(pixels, kBackgroundDepth);
+  std::vector<glm::vec4> topology_image(pixels, glm::vec4(0.0f));
+  std::vector<ViewSample> view(pixels);
+  std::vector<glm::vec3> direct(pixels), indirect(pixels);
+
+  auto make_frame = [&](int samples_done) {
+    auto frame = std::make_shared<Frame>();
+    frame->allocate(width, height, method_aovs(BOUNCE_METHOD_TOPOLOGY));
+    const float scale = 1.0f / float(samples_done);
+    uint64_t nonfinite = 0;
+    auto put = [&](int aov, std::size_t i, const float* value, int channels) {
+      bool finite = true;
+      for (int c = 0; c < channels; ++c) finite = finite && std::isfinite(value[c]);
+      if (!finite) ++nonfinite;
+      float* out = frame->aovs[aov].data() + std::size_t(bounce_aov_channels(aov)) * i;
+      for (int c = 0; c < channels; ++c) out[c] = finite ? value[c] : 0.0f;
+    };
+    for (std::size_t i = 0; i < pixels; ++i) {
+      const bool covered = sums.depth[i] < kBackgroundDepth;
+      const glm::vec4 combined = covered ? glm::vec4(sums.combined[i] * scale, 1.0f)
+                                         : glm::vec4(world.background[0], world.background[1], world.background[2],
+                                                     world.transparent ? 0.0f : 1.0f);
+      put(BOUNCE_AOV_COMBINED, i, glm::value_ptr(combined), 4);
+      for (auto [aov, sum] : {std::pair{BOUNCE_AOV_DIRECT, &sums.direct},
+                              {BOUNCE_AOV_EMISSION, &sums.emission},
+                              {BOUNCE_AOV_ALBEDO, &sums.albedo},
+                              {BOUNCE_AOV_NORMAL, &sums.normal},
+                              {BOUNCE_AOV_INDIRECT, &sums.indirect}}) {
+        const glm::vec3 value = (*sum)[i] * scale;
+        put(aov, i, glm::value_ptr(value), 3);
+      }
+      put(BOUNCE_AOV_DEPTH, i, &sums.depth[i], 1);
+      put(BOUNCE_AOV_TOPOLOGY, i, glm::value_ptr(topology_image[i]), 4);
+    }
+    frame->info.nonfinite_pixels = nonfinite;
+    frame->info.vpl_count = vpls_.size();
+    frame->info.cluster_count = static_cast<int32_t>(topo.cluster_count);
+    frame->info.main_light = -1;
+    frame->info.width = width;
+    frame->info.height = height;
+    frame->info.samples = samples_done;
+    timer.fill(frame->info);
+    return frame;
+  };
+
+  auto last_publish = std::chrono::steady_clock::now();
+  callbacks.status("", 0.5f);
+  for (int s = 0; s < settings.samples; ++s) {
+    if (callbacks.cancelled()) return false;
+    const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
+    const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
+    {
+      StageScope scope(timer, Stage::TopologyPrimary);
+      parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
+        for (int column = 0; column < width; ++column) {
+          ViewSample& v = view[row * std::size_t(width) + std::size_t(column)];
+          v = ViewSample{};
+          const double ndc_x = (x0 + column + 0.5 + jitter.x) / camera.width * 2.0 - 1.0;
+          const double ndc_y = (y0 + double(row) + 0.5 + jitter.y) / camera.height * 2.0 - 1.0;
+          const glm::dvec4 near = clip_to_world * glm::dvec4(ndc_x, ndc_y, -1.0, 1.0);
+          const glm::dvec4 far = clip_to_world * glm::dvec4(ndc_x, ndc_y, 1.0, 1.0);
+          const glm::dvec3 origin = glm::dvec3(near) / near.w;
+          glm::dvec3 dir = std::abs(far.w) > 1e-12 * std::abs(near.w) ? glm::dvec3(far) / far.w - origin
+                                                                      : glm::dvec3(far);  // infinite far plane
+          const double tmax =
+              std::abs(far.w) > 1e-12 * std::abs(near.w) ? glm::length(dir) : std::numeric_limits<double>::infinity();
+          dir = glm::normalize(dir);
+          v.origin = glm::vec3(origin);
+          v.direction = glm::vec3(dir);
+          if (!std::isfinite(v.origin.x) || !std::isfinite(v.direction.x)) continue;
+          const auto hit = scene_.bvh().intersect(v.origin, v.direction, 0.0f, static_cast<float>(tmax));
+          if (!hit) continue;
+          v.hit = true;
+          v.t = hit->t;
+          v.surface = scene_.surface(*hit, v.direction);
+          v.depth = static_cast<float>(-(world_to_view * glm::dvec4(glm::dvec3(v.surface.position), 1.0)).z);
+          v.cluster = topo.cluster_at(v.surface.position, v.surface.normal, topology::Topology::Side::Front);
+        }
+      });
+    }
+    {
+      StageScope scope(timer, Stage::TopologyDirect);
+      parallel_for(pixels, 0, 256, [&](std::size_t i) {
+        const ViewSample& v = view[i];
+        if (!v.hit) return;
+        Rng rng(seed, kDirectLight, (uint64_t(s) << 40) ^ i);
+        direct[i] = v.surface.albedo / kPi *
+                    direct_irradiance(lights, v.surface.position, v.surface.shading_normal, direct_rays, rng);
+      });
+    }
+    // Clustered shading (Sec. V.B): view samples grouped by screen tile, exponential depth slice and visibility
+    // cluster; each group gets a bounding sphere and, in light assignment (Sec. V.C), its list of VPLs.
+    std::vector<uint32_t> group_of(pixels, kNoNode);
+    std::vector<std::vector<Assignment>> assigned;
+    const bool clusters_and_gates = settings.topology_visibility == 0;
+    if (clusters_and_gates && !vpls_.empty()) {
+      StageScope scope(timer, Stage::TopologyAssign);
+      float near_depth = std::numeric_limits<float>::infinity(), far_depth = 0.0f;
+      for (const ViewSample& v : view)
+        if (v.hit && v.depth > 0.0f)
+          near_depth = std::min(near_depth, v.depth), far_depth = std::max(far_depth, v.depth);
+      const float log_range = std::log(std::max(far_depth / std::max(near_depth, 1e-30f), 1.0f + 1e-6f));
+      std::unordered_map<uint64_t, uint32_t> group_index;
+      std::vector<glm::vec3> lo, hi;
+      std::vector<uint32_t> group_cluster;
+      const int size = settings.topology_cluster_size;
+      for (std::size_t i = 0; i < pixels; ++i) {
+        const ViewSample& v = view[i];
+        if (!v.hit) continue;
+        const uint64_t tx = uint64_t(int(i % std::size_t(width)) / size),
+                       ty = uint64_t(int(i / std::size_t(width)) / size);
+        const int slice = v.depth > 0.0f ? std::clamp(int(kDepthSlices * std::log(v.depth / near_depth) / log_range), 0,
+                                                      kDepthSlices - 1)
+                                         : 0;
+        const uint64_t key = mix(mix(mix(tx) ^ ty) ^ uint64_t(slice)) ^ (uint64_t(v.cluster) << 1);
+        auto [entry, added] = group_index.try_emplace(key, uint32_t(lo.size()));
+        if (added) {
+          lo.push_back(v.surface.position);
+          hi.push_back(v.surface.position);
+          group_cluster.push_back(v.cluster);
+        }
+        group_of[i] = entry->second;
+        lo[entry->second] = glm::min(lo[entry->second], v.surface.position);
+        hi[entry->second] = glm::max(hi[entry->second], v.surface.position);
+      }
+      assigned.resize(lo.size());
+      parallel_for(lo.size(), 0, 4, [&](std::size_t g) {
+        const glm::vec3 centre = 0.5f * (lo[g] + hi[g]);
+        const float sphere = 0.5f * glm::length(hi[g] - lo[g]) + offset;
+        const uint32_t cluster = group_cluster[g];
+        for (std::size_t l = 0; l < vpls_.size(); ++l) {
+          const uint32_t vpl_cluster = vpl_cluster_[l];
+          if (vpl_cluster == kNoNode) continue;  // walled in: it lights nothing
+          // A view sample outside every cluster (outside the grid, or walled in) has no visibility information:
+          // it takes every light, as without indirect shadows.
+          if (cluster == kNoNode || vpl_cluster == cluster) {
+            assigned[g].push_back({uint32_t(l), kNoNode});
+            continue;
+          }
+          for (uint32_t gate : gates_of[vpl_cluster])
+            if (sphere_meets_gate_cone(vpls_[l].position, topo.gates[gate], centre, sphere))
+              assigned[g].push_back({uint32_t(l), gate});
+        }
+      });
+    }
+    {
+      StageScope scope(timer, Stage::TopologyIndirect);
+      parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
+        for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {
+          const ViewSample& v = view[i];
+          indirect[i] = glm::vec3(0.0f);
+          if (!v.hit) continue;
+          const glm::vec3 x = v.surface.position, n = v.surface.shading_normal;
+          glm::vec3 irradiance(0.0f);
+          if (clusters_and_gates) {
+            if (group_of[i] == kNoNode) continue;
+            uint32_t counted = kNoNode;  // a light listed with several gates lights a sample once
+            for (const Assignment& a : assigned[group_of[i]]) {
+              if (a.vpl == counted) continue;
+              if (a.gate != kNoNode && !in_gate_cone(vpls_[a.vpl].position, topo.gates[a.gate], x)) continue;
+              irradiance += vpl_irradiance(vpls_[a.vpl], x, n, clamp);
+              counted = a.vpl;
+            }
+          } else {
+            const bool shadow_rays = settings.topology_visibility == 1;
+            for (const Vpl& vpl : vpls_) {
+              const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
+              if (!(e.r + e.g + e.b > 0.0f)) continue;
+              if (shadow_rays) {
+                const glm::vec3 from = x + v.surface.normal * offset, to = vpl.position + vpl.normal * offset;
+                const float distance = glm::length(to - from);
+                if (distance > offset && scene_.bvh().occluded(from, (to - from) / distance, 0.0f, distance - offset))
+                  continue;
+              }
+              irradiance += e;
+            }
+          }
+          indirect[i] = v.surface.albedo / kPi * irradiance;
+        }
+      });
+    }
+    for (std::size_t i = 0; i < pixels; ++i) {
+      const ViewSample& v = view[i];
+      if (!v.hit) continue;
+      sums.direct[i] += direct[i];
+      sums.indirect[i] += indirect[i];
+      sums.emission[i] += v.surface.emission;
+      sums.albedo[i] += v.surface.albedo;
+      sums.normal[i] += v.surface.shading_normal;
+      sums.combined[i] += direct[i] + indirect[i] + v.surface.emission;
+      sums.depth[i] = std::min(sums.depth[i], v.depth);
+    }
+    if (s == 0) {
+      StageScope scope(timer, Stage::TopologyDebug);
+      draw_topology_pass(topo, settings, camera, x0, y0, width, height, view, topology_image);
+    }
+    callbacks.progress(s + 1, 0.5f + 0.5f * float(s + 1) / float(settings.samples));
+    const bool last = s + 1 == settings.samples;
+    const auto now = std::chrono::steady_clock::now();
+    if (!last && (s == 0 || now - last_publish >= kProgressivePublishInterval)) {
+      callbacks.publish(make_frame(s + 1));
+      last_publish = std::chrono::steady_clock::now();
+    }
+  }
+  callbacks.publish(make_frame(settings.samples));
+  return true;
+}
+
+}  // namespace bounce::cpu

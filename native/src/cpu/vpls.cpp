@@ -1,0 +1,153 @@
+#include "cpu/vpls.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "common/parallel.h"
+#include "cpu/direct_light.h"
+#include "cpu/random.h"
+
+namespace bounce::cpu {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+enum Purpose : uint64_t { kVplPaths = 11 };
+
+glm::vec3 load3(const float v[3]) { return {v[0], v[1], v[2]}; }
+
+// Any unit vector orthogonal to n, then the third axis: a frame around n.
+void frame(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
+  t = std::abs(n.x) > 0.9f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
+  t = glm::normalize(glm::cross(n, t));
+  b = glm::cross(n, t);
+}
+
+glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
+  glm::vec3 t, b;
+  frame(n, t, b);
+  const float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
+  return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
+}
+
+glm::vec3 sphere_direction(float u1, float u2) {
+  const float z = 1.0f - 2.0f * u1, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u2;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+float spot_solid_angle(const BounceLight& light) { return 2.0f * kPi * (1.0f - std::cos(light.spot_half_angle)); }
+
+float emitter_area(const BounceLight& light) {
+  return (light.type == BOUNCE_LIGHT_AREA_RECT ? 4.0f : kPi) * light.half_size[0] * light.half_size[1];
+}
+
+struct Emission {
+  glm::vec3 origin, direction, power;  // power: the light's, weighted for this direction's density
+};
+
+// One emitted ray whose power, averaged over (u1..u4), is the light's power.
+Emission emit(const BounceLight& light, glm::vec3 centre, float scene_radius, float u1, float u2, float u3, float u4) {
+  const glm::vec3 intensity = load3(light.intensity);
+  const glm::vec3 x = load3(light.axis_x), y = load3(light.axis_y), z = load3(light.axis_z);
+  switch (light.type) {
+    case BOUNCE_LIGHT_POINT:
+      return {load3(light.position), sphere_direction(u1, u2), intensity * 4.0f * kPi};
+    case BOUNCE_LIGHT_SPOT: {
+      const float cos_half = std::cos(light.spot_half_angle);
+      const float cos_theta = 1.0f - u1 * (1.0f - cos_half), sin_theta = std::sqrt(1.0f - cos_theta * cos_theta);
+      const float phi = 2.0f * kPi * u2;
+      const glm::vec3 d = glm::normalize(-z * cos_theta + (x * std::cos(phi) + y * std::sin(phi)) * sin_theta);
+      return {load3(light.position), d, intensity * spot_attenuation(light, d) * spot_solid_angle(light)};
+    }
+    case BOUNCE_LIGHT_SUN: {
+      const float r = scene_radius * std::sqrt(u1), phi = 2.0f * kPi * u2;
+      const glm::vec3 origin = centre + z * (2.0f * scene_radius) + r * (std::cos(phi) * x + std::sin(phi) * y);
+      return {origin, -z, intensity * kPi * scene_radius * scene_radius};
+    }
+    default: {
+      glm::vec2 q(2.0f * u3 - 1.0f, 2.0f * u4 - 1.0f);
+      if (light.type == BOUNCE_LIGHT_AREA_ELLIPSE) {
+        const float r = std::sqrt(u3), phi = 2.0f * kPi * u4;
+        q = {r * std::cos(phi), r * std::sin(phi)};
+      }
+      const glm::vec3 origin = load3(light.position) + q.x * light.half_size[0] * x + q.y * light.half_size[1] * y;
+      return {origin, cosine_direction(-z, u1, u2), intensity * kPi * emitter_area(light)};
+    }
+  }
+}
+
+float weight(glm::vec3 power) { return std::max(0.0f, power.r + power.g + power.b); }
+
+}  // namespace
+
+glm::vec3 light_power(const BounceLight& light, float scene_radius) {
+  const glm::vec3 intensity = load3(light.intensity);
+  switch (light.type) {
+    case BOUNCE_LIGHT_POINT:
+      return intensity * 4.0f * kPi;
+    case BOUNCE_LIGHT_SPOT:
+      return intensity * spot_solid_angle(light);  // an upper bound: the blend and cos falloff are left out
+    case BOUNCE_LIGHT_SUN:
+      return intensity * kPi * scene_radius * scene_radius;
+    default:
+      return intensity * kPi * emitter_area(light);
+  }
+}
+
+std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> lights, const VplOptions& options) {
+  const int paths = std::max(options.paths, 0), bounces = std::max(options.bounces, 1);
+  const float radius = scene.radius();
+  if (lights.empty() || paths == 0 || scene.triangle_count() == 0 || !(radius > 0.0f)) return {};
+  // Stratified choice of the light: path i takes the light where (i + 0.5) / paths falls in the cumulative power.
+  std::vector<double> cumulative(lights.size() + 1, 0.0);
+  for (std::size_t l = 0; l < lights.size(); ++l)
+    cumulative[l + 1] = cumulative[l] + double(weight(light_power(lights[l], radius)));
+  if (!(cumulative.back() > 0.0)) return {};
+  std::vector<uint32_t> light_of(static_cast<std::size_t>(paths)), paths_of(lights.size(), 0);
+  for (int i = 0; i < paths; ++i) {
+    const double target = (i + 0.5) / paths * cumulative.back();
+    const auto l =
+        std::size_t(std::upper_bound(cumulative.begin() + 1, cumulative.end(), target) - cumulative.begin() - 1);
+    light_of[std::size_t(i)] = uint32_t(std::min(l, lights.size() - 1));
+    ++paths_of[light_of[std::size_t(i)]];
+  }
+  const glm::vec3 centre = 0.5f * (scene.bounds_min() + scene.bounds_max());
+  const float offset = 2e-4f * radius;
+  std::vector<std::vector<Vpl>> per_path(static_cast<std::size_t>(paths));
+  parallel_for(std::size_t(paths), 0, 16, [&](std::size_t i) {
+    Rng rng(options.seed, kVplPaths, i);
+    const BounceLight& light = lights[light_of[i]];
+    const float u1 = rng.next(), u2 = rng.next(), u3 = rng.next(), u4 = rng.next();
+    Emission ray = emit(light, centre, radius, u1, u2, u3, u4);
+    glm::vec3 power = ray.power / float(paths_of[light_of[i]]);
+    for (int bounce = 1; bounce <= bounces; ++bounce) {
+      if (!(weight(power) > 0.0f) || !std::isfinite(weight(power))) break;
+      const auto hit = scene.bvh().intersect(ray.origin, ray.direction, offset, std::numeric_limits<float>::infinity());
+      if (!hit) break;
+      const Surface s = scene.surface(*hit, ray.direction);
+      power *= s.albedo;
+      if (!(weight(power) > 0.0f)) break;
+      per_path[i].push_back({s.position, s.normal, power, uint32_t(bounce)});
+      // Cosine-weighted: the next ray carries the reflected power unchanged (the cosine and pdf cancel).
+      ray.origin = s.position + s.normal * offset;
+      ray.direction = cosine_direction(s.normal, rng.next(), rng.next());
+    }
+  });
+  std::vector<Vpl> vpls;
+  for (const auto& path : per_path) vpls.insert(vpls.end(), path.begin(), path.end());
+  return vpls;
+}
+
+glm::vec3 vpl_irradiance(const Vpl& vpl, glm::vec3 x, glm::vec3 n, float clamp) {
+  const glm::vec3 to_x = x - vpl.position;
+  const float d2 = glm::dot(to_x, to_x);
+  if (!(d2 > 0.0f)) return glm::vec3(0.0f);
+  const glm::vec3 dir = to_x / std::sqrt(d2);
+  const float cos_vpl = glm::dot(vpl.normal, dir), cos_x = -glm::dot(n, dir);
+  if (cos_vpl <= 0.0f || cos_x <= 0.0f) return glm::vec3(0.0f);
+  return vpl.power * (cos_vpl * cos_x / (kPi * std::max(d2, clamp * clamp)));
+}
+
+}  // namespace bounce::cpu

@@ -1,0 +1,42 @@
+// Virtual point lights traced from every light with Embree (Instant Radiosity, Keller 1997; Noel and Biri 2014,
+// Sec. V and Fig. 8): paths leave the lights in proportion to their power, and each diffuse hit leaves a VPL
+// carrying the path's power reflected there.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "bounce/bounce.h"
+#include "cpu/cpu_scene.h"
+
+namespace bounce::cpu {
+
+struct Vpl {
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f};  // unit, on the side the light arrived from: the VPL lights that half-space
+  glm::vec3 power{0.0f};   // W per channel leaving the VPL (albedo included), spread as cos / pi
+  uint32_t bounce = 1;     // 1: lit straight by a lamp
+};
+
+struct VplOptions {
+  int paths = 1024;  // paths traced from the lights, all of them
+  int bounces = 1;   // diffuse hits per path, each leaving a VPL
+  uint64_t seed = 0;
+};
+
+// Paths are shared out among the lights in proportion to their power; a path that escapes or meets a black
+// surface ends early. Deterministic for a seed, whatever the threads.
+std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> lights, const VplOptions& options);
+
+// The radiant power a light emits (W per channel), as the renderer lights with it: a sun's through the disk
+// of radius `scene_radius` facing it.
+glm::vec3 light_power(const BounceLight& light, float scene_radius);
+
+// Irradiance (W/m^2 per channel) the VPL gives a point at x with unit normal n, unshadowed; distances below
+// `clamp` count as `clamp`.
+glm::vec3 vpl_irradiance(const Vpl& vpl, glm::vec3 x, glm::vec3 n, float clamp);
+
+}  // namespace bounce::cpu

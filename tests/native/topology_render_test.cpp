@@ -1,0 +1,172 @@
+// The topology method end to end through the C API: the two-room scene against its shadow-ray reference, the
+// cache, determinism and hard cases.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "render_fixture.h"
+#include "topology_scenes.h"
+
+namespace bounce::test {
+namespace {
+
+class TopologyRender : public RenderFixture {
+ protected:
+  void SetUp() override {
+    RenderFixture::SetUp();
+    settings_.method = BOUNCE_METHOD_TOPOLOGY;
+    settings_.topology_resolution = 64;
+    settings_.topology_vpls = 256;
+    settings_.samples = 1;
+  }
+  void add_soup(uint64_t key, const Soup& soup) {
+    std::vector<float> positions;
+    std::vector<uint32_t> triangles;
+    for (const glm::vec3& v : soup.vertices) {
+      triangles.push_back(static_cast<uint32_t>(positions.size() / 3));
+      positions.insert(positions.end(), {v.x, v.y, v.z});
+    }
+    add_mesh(key, positions, triangles);
+  }
+  // Two rooms, a point light high in the first, the camera in the second looking back at the doorway wall.
+  void build_two_rooms(glm::vec3 light = {4.0f, 5.0f, 3.0f}) {
+    add_soup(1, two_rooms());
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(0.8f);
+    set_lights({make_light(BOUNCE_LIGHT_POINT, light, glm::vec3(200.0f))});
+    const glm::mat4 view = glm::lookAt(glm::vec3(19.0f, 5.0f, 2.0f), glm::vec3(10.0f, 5.0f, 1.0f), glm::vec3(0, 0, 1));
+    set_camera(view, glm::perspective(glm::radians(70.0f), 2.0f, 0.05f, 100.0f), 64, 32);
+  }
+  BounceTopologyInfo topology_info() {
+    BounceTopologyInfo info{};
+    EXPECT_EQ(bounce_topology_info(engine_, &info), BOUNCE_OK) << bounce_last_error();
+    return info;
+  }
+  static double mse(const Image& a, const Image& b) {
+    double sum = 0.0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x)
+        for (int c = 0; c < 3; ++c) sum += std::pow(double(a.at(x, y)[c]) - double(b.at(x, y)[c]), 2.0);
+    return sum / (3.0 * a.width * a.height);
+  }
+};
+
+TEST_F(TopologyRender, TwoRoomsBeatNoVisibilityAgainstShadowRays) {
+  build_two_rooms();
+  settings_.topology_visibility = 1;  // shadow rays
+  const Image reference = render();
+  const Image direct = read(BOUNCE_AOV_DIRECT);
+  settings_.topology_visibility = 2;  // none
+  const Image none = render();
+  settings_.topology_visibility = 0;  // clusters and gates
+  const Image clusters = render();
+  const Image indirect = read(BOUNCE_AOV_INDIRECT);
+  for (const Image* image : {&reference, &none, &clusters, &indirect}) EXPECT_TRUE(all_finite(*image));
+  const double mse_direct = mse(direct, reference), mse_none = mse(none, reference),
+               mse_clusters = mse(clusters, reference);
+  std::printf("two rooms MSE: direct %.5g, no visibility %.5g, clusters and gates %.5g\n", mse_direct, mse_none,
+              mse_clusters);
+  EXPECT_GT(mean_red(indirect), 0.0);  // light comes through the doorway
+  EXPECT_LT(mse_clusters, mse_none);
+  EXPECT_LT(mse_clusters, mse_direct);
+  const BounceTopologyInfo info = topology_info();
+  EXPECT_EQ(info.available, 1);
+  EXPECT_GE(info.clusters, 2u);
+  EXPECT_GE(info.gates, 1u);
+}
+
+TEST_F(TopologyRender, CachedAcrossRendersAndLightMoves) {
+  build_two_rooms();
+  render();
+  const uint64_t builds = topology_info().builds;
+  set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(15.0f, 5.0f, 3.0f), glm::vec3(200.0f))});
+  const glm::mat4 view = glm::lookAt(glm::vec3(2.0f, 2.0f, 2.0f), glm::vec3(10.0f, 5.0f, 1.0f), glm::vec3(0, 0, 1));
+  set_camera(view, glm::perspective(glm::radians(70.0f), 2.0f, 0.05f, 100.0f), 64, 32);
+  EXPECT_TRUE(all_finite(render()));
+  EXPECT_EQ(topology_info().builds, builds);  // neither the camera nor the light rebuilds it
+  // Another engine (an F12 render beside the viewport) finds it in the process-wide cache.
+  BounceEngine* other = nullptr;
+  ASSERT_BOUNCE_OK(bounce_engine_create(nullptr, &other));
+  std::swap(other, engine_);
+  build_two_rooms();
+  render();
+  EXPECT_EQ(topology_info().builds, builds);
+  settings_.topology_alpha = 0.3f;  // a topology setting does
+  render();
+  EXPECT_EQ(topology_info().builds, builds + 1);
+  std::swap(other, engine_);
+  bounce_engine_destroy(other);
+}
+
+TEST_F(TopologyRender, DeterministicUnderASeed) {
+  build_two_rooms();
+  settings_.samples = 2;
+  settings_.filter_width = 1.0f;
+  const Image a = render();
+  const Image b = render();
+  EXPECT_EQ(a.values, b.values);
+}
+
+TEST_F(TopologyRender, DebugPassShowsClustersAndGates) {
+  build_two_rooms();
+  const Image pass = render(BOUNCE_AOV_TOPOLOGY);
+  int covered = 0;
+  for (int y = 0; y < pass.height; ++y)
+    for (int x = 0; x < pass.width; ++x) covered += pass.at(x, y)[3] > 0.0f;
+  EXPECT_GT(covered, pass.width * pass.height / 2);
+  EXPECT_TRUE(all_finite(pass));
+}
+
+TEST_F(TopologyRender, LightInsideAWallLightsNothingIndirectly) {
+  Soup soup = two_rooms();
+  soup.box({3.8f, 4.8f, 2.8f}, {4.2f, 5.2f, 3.2f});  // a sealed block around the light
+  add_soup(1, soup);
+  set_instances({1}, {glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(4.0f, 5.0f, 3.0f), glm::vec3(200.0f))});
+  const glm::mat4 view = glm::lookAt(glm::vec3(2.0f, 2.0f, 2.0f), glm::vec3(8.0f, 8.0f, 1.0f), glm::vec3(0, 0, 1));
+  set_camera(view, glm::perspective(glm::radians(70.0f), 2.0f, 0.05f, 100.0f), 64, 32);
+  const Image combined = render();
+  EXPECT_TRUE(all_finite(combined));
+  EXPECT_EQ(mean_red(read(BOUNCE_AOV_DIRECT)), 0.0);
+  EXPECT_EQ(mean_red(read(BOUNCE_AOV_INDIRECT)), 0.0);
+}
+
+TEST_F(TopologyRender, HardScenesRenderWithoutNaN) {
+  // Empty: nothing to hit, background only.
+  set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(0.0f), glm::vec3(10.0f))});
+  look_down(1.0f, 16);
+  EXPECT_TRUE(all_finite(render()));
+  // A single triangle, lit, at the extremes of scale and of the grid resolution.
+  for (float scale : {1e-4f, 1.0f, 1e4f}) {
+    for (int resolution : {1, 256}) {
+      add_mesh(1, {-scale, -scale, 0, scale, -scale, 0, 0, scale, 0}, {0, 1, 2});
+      set_instances({1}, {glm::mat4(1.0f)});
+      set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(0, 0, scale), glm::vec3(scale * scale))});
+      const glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 3 * scale), glm::vec3(0), glm::vec3(0, 1, 0));
+      set_camera(view, glm::ortho(-scale, scale, -scale, scale, 0.1f * scale, 10 * scale), 16, 16);
+      settings_.topology_resolution = resolution;
+      const Image image = render();
+      EXPECT_TRUE(all_finite(image)) << scale << " " << resolution;
+      EXPECT_GT(mean_red(image), 0.0) << scale << " " << resolution;
+    }
+  }
+}
+
+TEST_F(TopologyRender, SolidGridStillLightsDirectly) {
+  // A scene the grid cannot see into (a closed box smaller than a voxel): no empty space, no clusters.
+  add_soup(1, Soup().box({0, 0, 0}, {1, 1, 1}));
+  set_instances({1}, {glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  set_lights({make_light(BOUNCE_LIGHT_SUN, glm::vec3(0.0f), glm::vec3(3.0f))});
+  const glm::mat4 view = glm::lookAt(glm::vec3(0.5f, 0.5f, 5.0f), glm::vec3(0.5f), glm::vec3(0, 1, 0));
+  set_camera(view, glm::ortho(-1.0f, 1.0f, -1.0f, 1.0f, 0.1f, 10.0f), 16, 16);
+  settings_.topology_resolution = 1;
+  const Image image = render();
+  EXPECT_TRUE(all_finite(image));
+  EXPECT_GT(mean_red(read(BOUNCE_AOV_DIRECT)), 0.0);
+}
+
+}  // namespace
+}  // namespace bounce::test

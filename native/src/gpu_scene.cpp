@@ -118,8 +118,7 @@ void GpuScene::rebuild() {
                              {has_texture ? 1 : 0, has_texture && m.alpha_from_texture ? 1 : 0, 0, 0}});
   };
   for (const BounceMaterial& m : materials_) add_material(m);
-  const auto fallback_material = static_cast<uint32_t>(gpu_materials.size());
-  add_material(default_material());
+  add_material(default_material_);  // index materials_.size(), see material_of
   gl::upload_buffer(material_buffer_, material_capacity_, gpu_materials.size() * sizeof(GpuMaterial),
                     gpu_materials.data());
 
@@ -136,10 +135,7 @@ void GpuScene::rebuild() {
       gpu_instances.push_back({instance.object_to_world, instance.normal_to_world});
       const MeshData& data = *mesh->second.data;
       for (std::size_t s = 0; s < data.submeshes.size(); ++s) {
-        const auto slot = static_cast<std::size_t>(data.submeshes[s].slot);
-        uint32_t material = slot < instance.slot_materials.size() ? instance.slot_materials[slot] : UINT32_MAX;
-        if (material >= fallback_material) material = fallback_material;
-        groups[{&mesh->second, s, material}].push_back(index);
+        groups[{&mesh->second, s, material_of(instance, data.submeshes[s])}].push_back(index);
         drawn_triangles_ += data.submeshes[s].vertex_count / 3;
       }
       for (int corner = 0; corner < 8; ++corner) {
@@ -217,6 +213,12 @@ BounceSceneStats GpuScene::stats() const {
   return s;
 }
 
+uint32_t GpuScene::material_of(const InstanceData& instance, const SubMesh& submesh) const {
+  const auto slot = static_cast<std::size_t>(submesh.slot);
+  const uint32_t material = slot < instance.slot_materials.size() ? instance.slot_materials[slot] : UINT32_MAX;
+  return std::min(material, static_cast<uint32_t>(materials_.size()));
+}
+
 std::vector<GpuScene::DrawnPart> GpuScene::drawn_parts() const {
   std::vector<DrawnPart> parts;
   if (!instances_) return parts;
@@ -224,8 +226,7 @@ std::vector<GpuScene::DrawnPart> GpuScene::drawn_parts() const {
     const auto mesh = meshes_.find(instance.mesh_key);
     if (mesh == meshes_.end()) continue;
     for (const SubMesh& submesh : mesh->second.data->submeshes) {
-      const auto slot = static_cast<std::size_t>(submesh.slot);
-      const uint32_t material = slot < instance.slot_materials.size() ? instance.slot_materials[slot] : UINT32_MAX;
+      const uint32_t material = material_of(instance, submesh);
       parts.push_back({*mesh->second.data, instance, submesh,
                        material < materials_.size() ? materials_[material] : default_material_});
     }

@@ -90,6 +90,9 @@ class GpuScene {
   };
 
   void rebuild();
+  // The index in materials_ of a submesh's material; materials_.size() (the default material) for an unassigned
+  // slot or an index out of range.
+  uint32_t material_of(const InstanceData& instance, const SubMesh& submesh) const;
 
   std::map<uint64_t, GpuMesh> meshes_;
   std::map<uint64_t, GpuTexture> textures_;

@@ -7,6 +7,7 @@
 #include <map>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec4.hpp>
 
@@ -52,8 +53,6 @@ glm::vec3 sample(const TextureData& texture, glm::vec2 uv) {
          ty * ((1 - tx) * texel(texture, x0, y0 + 1) + tx * texel(texture, x0 + 1, y0 + 1));
 }
 
-glm::vec3 load3(const float v[3]) { return {v[0], v[1], v[2]}; }
-
 }  // namespace
 
 bool CpuScene::sync(const GpuScene& scene) {
@@ -71,14 +70,14 @@ bool CpuScene::sync(const GpuScene& scene) {
       const BounceMaterial& m = part.material;
       const TextureData* texture = scene.texture_data(m.base_color_texture);
       const bool usable = texture && texture->width > 0 && texture->height > 0;
-      materials_.push_back({load3(m.base_color), load3(m.emission), usable ? texture : nullptr});
+      materials_.push_back({glm::make_vec3(m.base_color), glm::make_vec3(m.emission), usable ? texture : nullptr});
     }
     const glm::mat4& to_world = part.instance.object_to_world;
     const glm::mat3 normal_to_world(part.instance.normal_to_world);
     for (uint32_t i = 0; i < part.submesh.vertex_count; ++i) {
       const Vertex& vertex = part.mesh.vertices[part.submesh.first_vertex + i];
-      positions_.push_back(glm::vec3(to_world * glm::vec4(load3(vertex.position), 1.0f)));
-      const glm::vec3 n = normal_to_world * load3(vertex.normal);
+      positions_.push_back(glm::vec3(to_world * glm::vec4(glm::make_vec3(vertex.position), 1.0f)));
+      const glm::vec3 n = normal_to_world * glm::make_vec3(vertex.normal);
       const float length = glm::length(n);
       normals_.push_back(length > 0.0f && std::isfinite(length) ? n / length : glm::vec3(0.0f));
       uvs_.push_back({vertex.uv[0], vertex.uv[1]});

@@ -5,30 +5,19 @@
 #include <limits>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <glm/vec2.hpp>
+
+#include "sampling.h"
 
 namespace bounce::cpu {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-glm::vec3 load3(const float v[3]) { return {v[0], v[1], v[2]}; }
-
 float smoothstep(float edge0, float edge1, float x) {
   const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
-}
-
-// Shirley and Chiu's concentric map: the unit square onto the unit disk, area-preserving, so strata stay strata.
-glm::vec2 concentric_disk(float s, float t) {
-  const float a = 2.0f * s - 1.0f, b = 2.0f * t - 1.0f;
-  if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
-  if (std::abs(a) > std::abs(b)) {
-    const float phi = kPi / 4 * (b / a);
-    return {a * std::cos(phi), a * std::sin(phi)};
-  }
-  const float phi = kPi / 2 - kPi / 4 * (a / b);
-  return {b * std::cos(phi), b * std::sin(phi)};
 }
 
 int grid_side(int samples, int dimensions) {
@@ -61,14 +50,14 @@ struct ShadingContext {
 // fraction of the ball of radius r among its points above y's horizon (the GPU's shadow_visibility: the part below
 // cannot reach y and carries no information).
 glm::vec3 point_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, ShadingContext& context) {
-  const glm::vec3 centre = load3(light.position);
+  const glm::vec3 centre = glm::make_vec3(light.position);
   const glm::vec3 to_light = centre - y;
   const float d2 = glm::dot(to_light, to_light);
   const glm::vec3 l = to_light / std::sqrt(std::max(d2, 1e-30f));
   const float r = light.radius;
   float falloff = std::max(glm::dot(n, l), 0.0f) / (d2 + r * r);
   if (light.type == BOUNCE_LIGHT_SPOT) falloff *= spot_attenuation(light, -l);
-  const glm::vec3 unshadowed = load3(light.intensity) * falloff;
+  const glm::vec3 unshadowed = glm::make_vec3(light.intensity) * falloff;
   if (!(falloff > 0.0f) || !light.cast_shadow) return unshadowed;
   if (r <= 0.0f) return context.visible(y, n, centre) ? unshadowed : glm::vec3(0.0f);
   const int k = grid_side(context.samples, 3);
@@ -97,9 +86,9 @@ glm::vec3 point_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, S
 // Sun: E cos toward axis_z, times the visible fraction of its disk (directions uniform in the cone of half the
 // angular diameter) among the directions above y's horizon.
 glm::vec3 sun_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, ShadingContext& context) {
-  const glm::vec3 z = load3(light.axis_z), x = load3(light.axis_x), w = load3(light.axis_y);
+  const glm::vec3 z = glm::make_vec3(light.axis_z), x = glm::make_vec3(light.axis_x), w = glm::make_vec3(light.axis_y);
   const float cos_n = glm::dot(n, z);
-  const glm::vec3 unshadowed = load3(light.intensity) * std::max(cos_n, 0.0f);
+  const glm::vec3 unshadowed = glm::make_vec3(light.intensity) * std::max(cos_n, 0.0f);
   if (!(cos_n > 0.0f) || !light.cast_shadow) return unshadowed;
   const float cos_max = std::cos(0.5f * light.sun_angle);
   if (light.sun_angle <= 0.0f) return context.visible_direction(y, n, z) ? unshadowed : glm::vec3(0.0f);
@@ -124,9 +113,10 @@ glm::vec3 sun_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sha
 // polygon formula of lights.glsl where nothing blocks (to the true ellipse, which lights.glsl approximates by
 // an equal-area 32-gon). Only the side facing -axis_z emits.
 glm::vec3 area_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, ShadingContext& context) {
-  const glm::vec3 c = load3(light.position), z = load3(light.axis_z);
+  const glm::vec3 c = glm::make_vec3(light.position), z = glm::make_vec3(light.axis_z);
   if (glm::dot(y - c, -z) <= 0.0f) return glm::vec3(0.0f);
-  const glm::vec3 u = load3(light.axis_x) * light.half_size[0], v = load3(light.axis_y) * light.half_size[1];
+  const glm::vec3 u = glm::make_vec3(light.axis_x) * light.half_size[0],
+                  v = glm::make_vec3(light.axis_y) * light.half_size[1];
   const bool rect = light.type == BOUNCE_LIGHT_AREA_RECT;
   const float area = (rect ? 4.0f : kPi) * light.half_size[0] * light.half_size[1];
   const int k = grid_side(context.samples, 2);
@@ -135,7 +125,7 @@ glm::vec3 area_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sh
     for (int j = 0; j < k; ++j) {
       const float s = (float(i) + context.rng.next()) / float(k);
       const float t = (float(j) + context.rng.next()) / float(k);
-      const glm::vec2 q = rect ? glm::vec2(2.0f * s - 1.0f, 2.0f * t - 1.0f) : concentric_disk(s, t);
+      const glm::vec2 q = rect ? glm::vec2(2.0f * s - 1.0f, 2.0f * t - 1.0f) : concentric_disk({s, t});
       const glm::vec3 p = c + q.x * u + q.y * v;
       const glm::vec3 to_p = p - y;
       const float d2 = glm::dot(to_p, to_p);
@@ -148,13 +138,13 @@ glm::vec3 area_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sh
       sum += double(cos_y) * double(cos_l) / double(d2);
     }
   }
-  return load3(light.intensity) * static_cast<float>(sum * double(area) / double(k * k));
+  return glm::make_vec3(light.intensity) * static_cast<float>(sum * double(area) / double(k * k));
 }
 
 }  // namespace
 
 float spot_attenuation(const BounceLight& light, glm::vec3 from_light) {
-  const float cos_phi = glm::dot(from_light, -load3(light.axis_z));
+  const float cos_phi = glm::dot(from_light, -glm::make_vec3(light.axis_z));
   const float cos_half = std::cos(light.spot_half_angle);
   if (cos_phi <= cos_half) return 0.0f;
   const float smooth_width = (1.0f - cos_half) * light.spot_blend;

@@ -241,7 +241,6 @@ bool TopologyRenderer::prepare_topology(const BounceSettings& settings, const Re
   }
   topology_key_ = key;
   store(key, topology_);
-  callbacks.status("", 0.5f);
   return true;
 }
 

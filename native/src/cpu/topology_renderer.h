@@ -41,7 +41,7 @@ class TopologyRenderer {
   uint64_t vpl_key_ = 0;
 };
 
-// The process-wide cache behind TopologyRenderer, exposed for tests: how many builds have run.
+// How many topologies the process-wide cache behind TopologyRenderer has built (bounce_topology_info).
 uint64_t topology_builds();
 
 }  // namespace bounce::cpu

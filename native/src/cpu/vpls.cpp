@@ -5,18 +5,18 @@
 #include <limits>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 #include "common/parallel.h"
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
+#include "sampling.h"
 
 namespace bounce::cpu {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
 enum Purpose : uint64_t { kVplPaths = 11 };
-
-glm::vec3 load3(const float v[3]) { return {v[0], v[1], v[2]}; }
 
 // Any unit vector orthogonal to n, then the third axis: a frame around n.
 void frame(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
@@ -49,31 +49,29 @@ struct Emission {
 
 // One emitted ray whose power, averaged over (u1..u4), is the light's power.
 Emission emit(const BounceLight& light, glm::vec3 centre, float scene_radius, float u1, float u2, float u3, float u4) {
-  const glm::vec3 intensity = load3(light.intensity);
-  const glm::vec3 x = load3(light.axis_x), y = load3(light.axis_y), z = load3(light.axis_z);
+  const glm::vec3 power = light_power(light, scene_radius);
+  const glm::vec3 x = glm::make_vec3(light.axis_x), y = glm::make_vec3(light.axis_y), z = glm::make_vec3(light.axis_z);
   switch (light.type) {
     case BOUNCE_LIGHT_POINT:
-      return {load3(light.position), sphere_direction(u1, u2), intensity * 4.0f * kPi};
-    case BOUNCE_LIGHT_SPOT: {
+      return {glm::make_vec3(light.position), sphere_direction(u1, u2), power};
+    case BOUNCE_LIGHT_SPOT: {  // uniform in the cone: its power times the attenuation toward d
       const float cos_half = std::cos(light.spot_half_angle);
       const float cos_theta = 1.0f - u1 * (1.0f - cos_half), sin_theta = std::sqrt(1.0f - cos_theta * cos_theta);
       const float phi = 2.0f * kPi * u2;
       const glm::vec3 d = glm::normalize(-z * cos_theta + (x * std::cos(phi) + y * std::sin(phi)) * sin_theta);
-      return {load3(light.position), d, intensity * spot_attenuation(light, d) * spot_solid_angle(light)};
+      return {glm::make_vec3(light.position), d, power * spot_attenuation(light, d)};
     }
-    case BOUNCE_LIGHT_SUN: {
+    case BOUNCE_LIGHT_SUN: {  // uniform over the disk of the scene's radius facing the sun
       const float r = scene_radius * std::sqrt(u1), phi = 2.0f * kPi * u2;
       const glm::vec3 origin = centre + z * (2.0f * scene_radius) + r * (std::cos(phi) * x + std::sin(phi) * y);
-      return {origin, -z, intensity * kPi * scene_radius * scene_radius};
+      return {origin, -z, power};
     }
-    default: {
-      glm::vec2 q(2.0f * u3 - 1.0f, 2.0f * u4 - 1.0f);
-      if (light.type == BOUNCE_LIGHT_AREA_ELLIPSE) {
-        const float r = std::sqrt(u3), phi = 2.0f * kPi * u4;
-        q = {r * std::cos(phi), r * std::sin(phi)};
-      }
-      const glm::vec3 origin = load3(light.position) + q.x * light.half_size[0] * x + q.y * light.half_size[1] * y;
-      return {origin, cosine_direction(-z, u1, u2), intensity * kPi * emitter_area(light)};
+    default: {  // uniform over the emitter, cosine-weighted around -axis_z
+      const glm::vec2 q = light.type == BOUNCE_LIGHT_AREA_ELLIPSE ? concentric_disk({u3, u4})
+                                                                  : glm::vec2(2.0f * u3 - 1.0f, 2.0f * u4 - 1.0f);
+      const glm::vec3 origin =
+          glm::make_vec3(light.position) + q.x * light.half_size[0] * x + q.y * light.half_size[1] * y;
+      return {origin, cosine_direction(-z, u1, u2), power};
     }
   }
 }
@@ -83,7 +81,7 @@ float weight(glm::vec3 power) { return std::max(0.0f, power.r + power.g + power.
 }  // namespace
 
 glm::vec3 light_power(const BounceLight& light, float scene_radius) {
-  const glm::vec3 intensity = load3(light.intensity);
+  const glm::vec3 intensity = glm::make_vec3(light.intensity);
   switch (light.type) {
     case BOUNCE_LIGHT_POINT:
       return intensity * 4.0f * kPi;

@@ -38,6 +38,9 @@ def _draw(engine, context):
         return
     camera = viewport_camera(context)
     settings = fill_settings(context.scene.bounce, viewport=True)
+    if not context.scene.bounce.topology_overlay:
+        # Nothing shows the Topology pass then: the core skips drawing it (about a primary-ray pass per restart).
+        settings.topology_show_clusters = settings.topology_show_skeleton = settings.topology_show_gates = 0
     signature = (bytes(camera), bytes(settings), current.scene_serial)
     if signature != current.render_signature:
         current.render_signature = signature

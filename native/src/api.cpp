@@ -193,6 +193,8 @@ BounceStatus bounce_topology_info(BounceEngine* engine, BounceTopologyInfo* out)
   return guarded([&] {
     bounce::require(out != nullptr, "out is NULL");
     *out = BounceTopologyInfo{};
+    // Process-wide, so a fresh engine (each F12 render) can tell a cache hit from a build before it renders.
+    out->builds = bounce::cpu::topology_builds();
     const auto topology = engine_of(engine).topology();
     if (!topology) return;
     out->available = 1;
@@ -205,7 +207,6 @@ BounceStatus bounce_topology_info(BounceEngine* engine, BounceTopologyInfo* out)
     out->segmented_nodes = static_cast<uint32_t>(topology->segmented.original.size());
     out->clusters = topology->cluster_count;
     out->gates = static_cast<uint32_t>(topology->gates.size());
-    out->builds = bounce::cpu::topology_builds();
     static_assert(int(bounce::topology::BuildStage::Count) == BOUNCE_TOPOLOGY_STAGES);
     for (int stage = 0; stage < BOUNCE_TOPOLOGY_STAGES; ++stage) {
       std::strncpy(out->stage_names[stage], bounce::topology::build_stage_name(bounce::topology::BuildStage(stage)),

@@ -2,6 +2,7 @@
 // cache, determinism and hard cases.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -89,6 +90,7 @@ TEST_F(TopologyRender, CachedAcrossRendersAndLightMoves) {
   BounceEngine* other = nullptr;
   ASSERT_BOUNCE_OK(bounce_engine_create(nullptr, &other));
   std::swap(other, engine_);
+  EXPECT_EQ(topology_info().builds, builds);  // known before it renders: F12 prints "built" or "from the cache"
   build_two_rooms();
   render();
   EXPECT_EQ(topology_info().builds, builds);
@@ -116,6 +118,12 @@ TEST_F(TopologyRender, DebugPassShowsClustersAndGates) {
     for (int x = 0; x < pass.width; ++x) covered += pass.at(x, y)[3] > 0.0f;
   EXPECT_GT(covered, pass.width * pass.height / 2);
   EXPECT_TRUE(all_finite(pass));
+  // Every toggle off (the viewport without its overlay): a transparent pass, and the same lighting.
+  const Image combined = read(BOUNCE_AOV_COMBINED);
+  settings_.topology_show_clusters = settings_.topology_show_skeleton = settings_.topology_show_gates = 0;
+  const Image hidden = render(BOUNCE_AOV_TOPOLOGY);
+  EXPECT_TRUE(std::all_of(hidden.values.begin(), hidden.values.end(), [](float v) { return v == 0.0f; }));
+  EXPECT_EQ(read(BOUNCE_AOV_COMBINED).values, combined.values);
 }
 
 TEST_F(TopologyRender, LightInsideAWallLightsNothingIndirectly) {

@@ -504,7 +504,10 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
       sums.combined[i] += direct[i] + indirect[i] + v.surface.emission;
       sums.depth[i] = std::min(sums.depth[i], v.depth);
     }
-    if (s == 0) {
+    // With every toggle off the pass stays transparent and costs nothing (the viewport without its overlay).
+    const bool debug_pass =
+        settings.topology_show_clusters || settings.topology_show_skeleton || settings.topology_show_gates;
+    if (s == 0 && debug_pass) {
       StageScope scope(timer, Stage::TopologyDebug);
       draw_topology_pass(topo, settings, camera, x0, y0, width, height, view, topology_image);
     }

@@ -51,7 +51,7 @@ def parse_args(argv):
     parser.add_argument("--method", help="scene.bounce.method of the measured renders (default: the suite's)")
     parser.add_argument("--set", action="append", default=[], metavar="NAME=V[,V...]",
                         help="a scene.bounce setting; several values sweep it (repeatable; sweeps multiply)")
-    parser.add_argument("--scenes", help="comma-separated scene names instead of the suite's: cornell, sponza, "
+    parser.add_argument("--scenes", help="comma-separated scene names instead of the suite's: cornell, sponza, two-rooms, "
                         "grid, grid-100k, dragons-N")
     parser.add_argument("--resolution", help="WxH for every scene instead of the suite's")
     parser.add_argument("--repeats", type=int, help="renders per configuration (timings are medians)")
@@ -203,7 +203,7 @@ def main(argv=None):
         records = [json.loads(line) for line in (out / "records.jsonl").read_text().splitlines() if line.strip()]
     else:
         records = []
-        for index, (scene, width, height) in enumerate(scenes if suite.sequence is None else (), 1):
+        for index, (scene, width, height) in enumerate(scenes if suite.script is None else (), 1):
             jobs = jobs_for(scene, width, height, configs, args, suite, out / "renders", errors)
             if errors:
                 jobs = [job for r in references for job in r.missing_jobs(scene, [(width, height)])] + jobs
@@ -221,13 +221,16 @@ def main(argv=None):
                     records.append(record)
             log(f"scene {scene.name} done in {time.perf_counter() - scene_start:.1f} s")
 
-        if suite.sequence is not None:
+        if suite.script is not None:
+            config = {k: v for k, v in suite.script_config.items() if k != "quick"}
+            config.update(suite.script_config.get("quick", {}) if args.quick else {})
             for scene, width, height in scenes:
                 log(f"{scene.name} at {width}x{height}: {suite.summary}")
-                sequence = dict(suite.sequence, quick=None, frames=suite.sequence["quick" if args.quick else "frames"])
-                records += [dict(r, scene=scene.name, width=width, height=height, role="measure") for r in
-                            runner.run_script(scene, runner.TEMPORAL_SCRIPT,
-                                              dict(sequence, width=width, height=height), out / "logs")]
+                # A record's own width and height (another image size it measured) win over the scene's.
+                records += [dict({"width": width, "height": height}, **r, scene=scene.name, role="measure")
+                            for r in runner.run_script(scene, runner.HERE / suite.script,
+                                                       dict(config, width=width, height=height,
+                                                            images=str(out / "renders")), out / "logs")]
 
     with open(out / "records.jsonl", "w") as f:
         f.writelines(json.dumps(r) + "\n" for r in records)

@@ -20,6 +20,7 @@ import json
 import os
 import sys
 import time
+import types
 
 import bpy
 
@@ -41,6 +42,41 @@ def addon_module(name):
         if package in sys.modules:
             return importlib.import_module(f"{package}.{name}")
     raise RuntimeError("the Bounce add-on is not enabled (run through scripts/blender)")
+
+
+class NativeSession:
+    """One native engine rendering the open scene again and again, as one viewport does: the scene syncs
+    incrementally and whatever the core caches (SSVP's clusters, the topology) carries over between renders."""
+
+    def __init__(self):
+        self.native, self.export = addon_module("native"), addon_module("export")
+        self.properties = addon_module("properties")
+        self.engine = self.native.Engine()
+        self.sync = self.export.SceneSync(self.engine)
+        self.info = None
+
+    def render(self, scene, camera_object, frame=0):
+        """Renders scene.bounce's final-render settings from `camera_object`; returns the wall seconds of the
+        render alone (sync excluded). The frame's info is self.info, its passes self.read(aov)."""
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        self.sync.sync(depsgraph, self.export.Reports(), moved=True)
+        camera = self.export.final_camera(types.SimpleNamespace(camera_override=camera_object), depsgraph)
+        camera.frame = frame
+        settings = self.properties.fill_settings(scene.bounce, viewport=False)
+        start = time.perf_counter()
+        self.engine.render_start(settings, camera)
+        self.engine.render_wait(-1)
+        seconds = time.perf_counter() - start
+        self.info = self.engine.frame_info()
+        return seconds
+
+    def read(self, aov, channels=3):
+        """A pass of the last frame, (height, width, channels)."""
+        width, height = self.info.width, self.info.height
+        return self.engine.frame_read(aov, width, height).reshape(height, width, -1)[..., :channels].copy()
+
+    def close(self):
+        self.engine.close()
 
 
 def add_triangle_grid(triangles):

@@ -20,7 +20,7 @@ SHARED = Path(os.environ.get("BOUNCE_SHARED_DIR") or REPO.parent / "shared").res
 SETUPS = SHARED / "scenes" / "setups"
 RENDER_SCRIPT = HERE / "blender_render.py"
 DRAGON_SCRIPT = HERE / "dragon_scene.py"
-TEMPORAL_SCRIPT = HERE / "ssvp_temporal.py"
+TWO_ROOMS_SCRIPT = HERE / "two_rooms_scene.py"
 # Seeds differ so a reference's noise is independent of the Cycles renders measured against it.
 REFERENCE_SEED = 7919
 CYCLES_SEED = 0
@@ -74,13 +74,14 @@ def _build(name, script, args, cache):
 
 
 def standard_scene(name, cache):
-    """cornell, sponza (from ../shared/scenes/setups) or grid (the factory scene plus 1M triangles)."""
+    """cornell, sponza (from ../shared/scenes/setups), two-rooms (benchmarks/two_rooms_scene.py) or grid (the
+    factory scene plus 1M triangles)."""
     if name == "grid":
         return Scene("grid-1M", extra_triangles=1_000_000)
     if name.startswith("grid-"):  # grid-<triangles>, e.g. grid-100k for quick runs
         count = int(float(name[5:].lower().replace("k", "e3").replace("m", "e6")))
         return Scene(name, extra_triangles=count)
-    script = SETUPS / f"{name}.py"
+    script = TWO_ROOMS_SCRIPT if name == "two-rooms" else SETUPS / f"{name}.py"
     if not script.exists():
         sys.exit(f"scripts/benchmark: no scene '{name}' ({script} not found)")
     blend, key = _build(name, script, [], cache)

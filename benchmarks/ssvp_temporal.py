@@ -14,20 +14,17 @@ Motions, each rendered with clusters seeded from the last frame and seeded afres
 The change of frame f: mean |I_f - I_(f-1)| / mean I_(f-1) over the pixels that see geometry, and over the
 'static region' of pixels that no direct light reaches in either frame (lit only indirectly).
 """
-import importlib
 import json
 import math
 import os
 import sys
-import time
-import types
 
 import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from blender_render import addon_module, apply_settings, bl_common  # noqa: E402
+from blender_render import NativeSession, apply_settings, bl_common  # noqa: E402
 
 
 def relative_changes(previous, current, direct_previous, direct_current, covered):
@@ -40,36 +37,12 @@ def relative_changes(previous, current, direct_previous, direct_current, covered
     return out, int(dark.sum())
 
 
-class Sequence:
-    """One native engine (as one viewport) rendering frames of the open scene."""
-
-    def __init__(self, config):
-        self.native, self.export = addon_module("native"), addon_module("export")
-        self.properties = addon_module("properties")
-        self.engine = self.native.Engine()
-        self.sync = self.export.SceneSync(self.engine)
-        self.width, self.height = config["width"], config["height"]
-
-    def render(self, scene, camera_object, frame):
-        depsgraph = bpy.context.evaluated_depsgraph_get()
-        self.sync.sync(depsgraph, self.export.Reports(), moved=True)
-        stub = types.SimpleNamespace(camera_override=camera_object)
-        camera = self.export.final_camera(stub, depsgraph)
-        camera.frame = frame
-        settings = self.properties.fill_settings(scene.bounce, viewport=False)
-        start = time.perf_counter()
-        self.engine.render_start(settings, camera)
-        self.engine.render_wait(-1)
-        seconds = time.perf_counter() - start
-        info = self.engine.frame_info()
-        read = lambda aov: self.engine.frame_read(aov, info.width, info.height).reshape(info.height, info.width, -1)
-        return {"indirect": read(self.native.AOV_INDIRECT)[..., :3].copy(),
-                "direct": read(self.native.AOV_DIRECT)[..., :3].copy(),
-                "covered": read(self.native.AOV_ALBEDO)[..., :3].max(axis=-1) > 0,
-                "seconds": seconds, "clusters": info.cluster_count}
-
-    def close(self):
-        self.engine.close()
+def render(session, scene, camera_object, frame):
+    seconds = session.render(scene, camera_object, frame)
+    native = session.native
+    return {"indirect": session.read(native.AOV_INDIRECT), "direct": session.read(native.AOV_DIRECT),
+            "covered": session.read(native.AOV_ALBEDO).max(axis=-1) > 0, "seconds": seconds,
+            "clusters": session.info.cluster_count}
 
 
 def scene_centre(scene):
@@ -86,7 +59,7 @@ def run(config, scene, motion, temporal, records):
     pivot = scene_centre(scene)
     probe = camera.copy()  # the fixed view the orbit is judged in
     scene.collection.objects.link(probe)
-    sequence = Sequence(config)
+    session = NativeSession()
     previous = None
     try:
         for frame in range(config["frames"]):
@@ -94,13 +67,13 @@ def run(config, scene, motion, temporal, records):
             if motion == "orbit":
                 turn = Matrix.Rotation(math.radians(config["orbit_degrees"] * t), 4, "Z")
                 camera.matrix_world = pivot @ turn @ pivot.inverted() @ camera_start
-                shown = sequence.render(scene, camera, frame)
-                judged = sequence.render(scene, probe, frame)
+                shown = render(session, scene, camera, frame)
+                judged = render(session, scene, probe, frame)
                 seconds = shown["seconds"]
             else:
                 turn = Matrix.Rotation(math.radians(config["light_degrees"] * t), 4, "X")
                 sun.matrix_world = Matrix.Translation(sun_start.translation) @ turn @ sun_start.to_3x3().to_4x4()
-                judged = sequence.render(scene, camera, frame)
+                judged = render(session, scene, camera, frame)
                 seconds = judged["seconds"]
             record = {"motion": motion, "seeding": "last frame" if temporal else "fresh", "frame": frame,
                       "seconds": seconds, "clusters": judged["clusters"],
@@ -114,7 +87,7 @@ def run(config, scene, motion, temporal, records):
             records.flush()
         print(f"temporal: {motion}, seeding {record['seeding']}: {config['frames']} frames", flush=True)
     finally:
-        sequence.close()
+        session.close()
         camera.matrix_world, sun.matrix_world = camera_start, sun_start
         bpy.data.objects.remove(probe)
 

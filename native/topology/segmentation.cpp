@@ -254,6 +254,33 @@ std::vector<uint32_t> visibility_clusters(const Skeleton& skeleton, const Segmen
   return merged;
 }
 
+namespace {
+
+// The node of smallest maximal ball along a skeleton path, where a gate on it sits.
+size_t neck_of(const Skeleton& skeleton, const std::vector<uint32_t>& path) {
+  size_t neck = 0;
+  for (size_t i = 1; i < path.size(); ++i)
+    if (skeleton.radius[path[i]] < skeleton.radius[path[neck]]) neck = i;
+  return neck;
+}
+
+}  // namespace
+
+std::vector<uint32_t> node_clusters(const Skeleton& skeleton, const SegmentedSkeleton& segmented,
+                                    const std::vector<uint32_t>& cluster_of) {
+  std::vector<uint32_t> clusters(segmented.segmented_of.size(), kNoNode);
+  for (size_t node = 0; node < clusters.size(); ++node)
+    if (segmented.segmented_of[node] != kNoNode) clusters[node] = cluster_of[segmented.segmented_of[node]];
+  for (size_t e = 0; e < segmented.edges.size(); ++e) {
+    const auto [a, b] = segmented.edges[e];
+    if (cluster_of[a] == cluster_of[b]) continue;
+    const std::vector<uint32_t>& path = segmented.edge_paths[e];
+    const size_t neck = neck_of(skeleton, path);
+    for (size_t i = 0; i < path.size(); ++i) clusters[path[i]] = cluster_of[i <= neck ? a : b];
+  }
+  return clusters;
+}
+
 std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkeleton& segmented,
                                    const std::vector<uint32_t>& cluster_of) {
   std::vector<Gate> gates;
@@ -261,9 +288,7 @@ std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkel
     const auto [a, b] = segmented.edges[e];
     if (cluster_of[a] == cluster_of[b]) continue;
     const std::vector<uint32_t>& path = segmented.edge_paths[e];
-    size_t neck = 0;
-    for (size_t i = 1; i < path.size(); ++i)
-      if (skeleton.radius[path[i]] < skeleton.radius[path[neck]]) neck = i;
+    const size_t neck = neck_of(skeleton, path);
     // The path's direction at the neck, over a few nodes so voxel steps do not tilt it.
     const size_t before = neck >= 2 ? neck - 2 : 0, after = std::min(path.size() - 1, neck + 2);
     glm::vec3 along = skeleton.position[path[after]] - skeleton.position[path[before]];

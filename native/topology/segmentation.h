@@ -63,4 +63,11 @@ struct Gate {
 std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkeleton& segmented,
                                    const std::vector<uint32_t>& cluster_of);
 
+// The visibility cluster of every original skeleton node, which the voxels' nearest nodes give to points: its
+// line's nearest kept end's, except on an edge between two clusters, whose gate is the boundary: the nodes up to
+// the neck take the first end's cluster, the rest the second's. With the nearest end instead, the nodes past a
+// doorway's neck took the first room's cluster, and so did a slab of the second room along the wall.
+std::vector<uint32_t> node_clusters(const Skeleton& skeleton, const SegmentedSkeleton& segmented,
+                                    const std::vector<uint32_t>& cluster_of);
+
 }  // namespace bounce::topology

@@ -115,6 +115,7 @@ Topology build(std::span<const glm::vec3> soup, const Settings& settings, const 
   t.cluster_of = visibility_clusters(t.skeleton, t.segmented, alpha, &t.cluster_count);
   begin(BuildStage::Gates);
   t.gates = visibility_gates(t.skeleton, t.segmented, t.cluster_of);
+  t.node_cluster = node_clusters(t.skeleton, t.segmented, t.cluster_of);
   begin(BuildStage::Count);
   return t;
 }

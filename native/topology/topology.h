@@ -40,6 +40,7 @@ struct Topology {
   std::vector<uint32_t> cluster_of;  // per segmented node
   uint32_t cluster_count = 0;
   std::vector<Gate> gates;
+  std::vector<uint32_t> node_cluster;  // per original skeleton node (node_clusters)
   std::array<double, size_t(BuildStage::Count)> stage_ms{};
 
   // Which side of a surface point a lookup may take.
@@ -57,9 +58,7 @@ struct Topology {
   uint32_t node_at(glm::vec3 p, glm::vec3 n, Side side = Side::Either, const Reachable& reachable = {}) const;
   // The visibility cluster of that node, kNoNode likewise.
   uint32_t cluster_at(glm::vec3 p, glm::vec3 n, Side side = Side::Either, const Reachable& reachable = {}) const;
-  uint32_t cluster_of_node(uint32_t node) const {
-    return node == kNoNode ? kNoNode : cluster_of[segmented.segmented_of[node]];
-  }
+  uint32_t cluster_of_node(uint32_t node) const { return node == kNoNode ? kNoNode : node_cluster[node]; }
   // Stage times and counts, one line each.
   std::string summary() const;
 };

@@ -151,6 +151,19 @@ TEST_P(TopologyTwoRooms, AreTwoClustersWithAGateInTheDoorway) {
   EXPECT_LT(gate.centre.z, test::kDoorHi.z);
   EXPECT_LE(gate.radius, 0.5f * (test::kDoorHi.y - test::kDoorLo.y));
   EXPECT_GT(std::abs(gate.normal.x), 0.85f);  // across the wall, within the tilt of voxel steps
+  // The gate is the boundary: surfaces along the middle wall take their own room's cluster (the skeleton nodes
+  // past the doorway's neck once gave a slab of room B room A's cluster). Within about three voxels of the wall
+  // a point's nearest node through the empty space may still be one past the neck.
+  const uint32_t room_a = t.cluster_at({5, 5, 2}, {}), room_b = t.cluster_at({15, 5, 2}, {});
+  for (float d : {4.0f * h, 0.6f, 1.0f, 2.0f}) {
+    if (d < 4.0f * h) continue;
+    for (const auto& [point, normal] :
+         {std::pair{glm::vec3(0, 0, 2), glm::vec3(0, 1, 0)}, std::pair{glm::vec3(0, 10, 2), glm::vec3(0, -1, 0)},
+          std::pair{glm::vec3(0, 2, 0), glm::vec3(0, 0, 1)}, std::pair{glm::vec3(0, 8, 4), glm::vec3(0, 0, -1)}}) {
+      EXPECT_EQ(t.cluster_at(point + glm::vec3(10.0f - d, 0, 0), normal, Topology::Side::Front), room_a) << d;
+      EXPECT_EQ(t.cluster_at(point + glm::vec3(10.0f + d, 0, 0), normal, Topology::Side::Front), room_b) << d;
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Resolutions, TopologyTwoRooms, testing::Values(64, 96, 128, 192, 256));

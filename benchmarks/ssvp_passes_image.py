@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 import images
+from display import srgb
 import report
 
 REPO = Path(__file__).resolve().parent.parent
@@ -28,11 +29,6 @@ def render(out, name, size, samples):
                     str(REPO / "tests" / "blender" / "scripts" / "render.py"), "--", str(out / f"{name}.cfg.json")],
                    check=True, stdout=subprocess.DEVNULL)
     return images.read_passes(json.loads((out / f"{name}.json").read_text())["exr"])
-
-
-def srgb(linear):
-    x = np.clip(linear, 0.0, 1.0)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
 
 
 def main():

@@ -24,14 +24,14 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from blender_render import NativeSession, apply_settings, bl_common  # noqa: E402
+from display import srgb  # noqa: E402
 
 COLUMNS = ("direct only", "no visibility", "clusters and gates")
 
 
 def srgb8(linear):
-    """Blender's Standard view: the sRGB curve, clamped, in 8-bit units (0..255, kept as floats)."""
-    x = np.clip(linear, 0.0, 1.0)
-    return 255.0 * np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
+    """Blender's Standard view in 8-bit units (0..255, kept as floats)."""
+    return 255.0 * srgb(linear)
 
 
 def stage_columns(info, prefix=""):

@@ -16,7 +16,7 @@ bl_info = {  # Blender 3.x legacy add-on metadata; 4.2+ reads blender_manifest.t
 
 import bpy
 
-from . import engine, native, operators, properties, session, ui, viewport
+from . import engine, native, operators, properties, session, ui, versioning, viewport
 
 _CLASSES = (
     engine.BounceRenderEngine,
@@ -34,9 +34,11 @@ def register():
         bpy.utils.register_class(cls)
     ui.register()
     operators.register_menus()
+    versioning.register()
 
 
 def unregister():
+    versioning.unregister()
     viewport.stop_polling()
     session.release_all()
     operators.unregister_menus()

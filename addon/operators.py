@@ -20,9 +20,24 @@ class BOUNCE_OT_demo_scene(bpy.types.Operator):
         window = context.window or next(iter(context.window_manager.windows), None)
         if window is None:
             self.report({"WARNING"}, f"Created scene '{scene.name}'; no window to show it in")
-        else:
-            window.scene = scene
+            return {"FINISHED"}
+        window.scene = scene
+        view = _view_to_show_in(context, window)
+        if view is not None:
+            # Seen from outside, the closed box is dark on a black world: look through its camera, rendered.
+            view.shading.type = "RENDERED"
+            view.region_3d.view_perspective = "CAMERA"
         return {"FINISHED"}
+
+
+def _view_to_show_in(context, window):
+    """The 3D view the operator ran from, else the window's largest: the view a user looks at."""
+    if context.space_data is not None and context.space_data.type == "VIEW_3D":
+        return context.space_data
+    areas = [area for area in window.screen.areas if area.type == "VIEW_3D"]
+    if not areas:
+        return None
+    return max(areas, key=lambda area: area.width * area.height).spaces.active
 
 
 CLASSES = (BOUNCE_OT_demo_scene, presets.BOUNCE_OT_apply_preset)

@@ -125,6 +125,29 @@ GROUP_NOTES = {
 }
 
 
+# Methods each setting applies to, where not every method reads it: the row is greyed out for the others.
+ROW_METHODS = {"bounces": {"SSVP", "TOPOLOGY"}}
+# Settings whose value a method caps below the property's maximum: (method, cap, note).
+ROW_CAPS = {"bounces": ("SSVP", 2, "Screen-Space VPL Propagation simulates 2 bounces at most")}
+
+
+def _draw_row(layout, props, row):
+    name = row["name"]
+    methods = ROW_METHODS.get(name)
+    column = layout.column()
+    column.active = methods is None or props.method in methods
+    if has_viewport_variant(row):
+        labels, values = _label_split(column)
+        labels.label(text=row["label"])
+        values.prop(props, name, text="")
+        values.prop(props, VIEWPORT_PREFIX + name, text="")
+    else:
+        column.prop(props, name)
+    method, cap, note = ROW_CAPS.get(name, (None, None, None))
+    if props.method == method and getattr(props, name) > cap:
+        column.label(text=note, icon="INFO")
+
+
 def _settings_panel(group, rows, order):
     """A Render-properties panel for one `group` of the settings table; viewport variants sit beside."""
     has_pairs = any(has_viewport_variant(row) for row in rows)
@@ -145,14 +168,7 @@ def _settings_panel(group, rows, order):
             values.label(text="Render")
             values.label(text="Viewport")
         for row in rows:
-            name = row["name"]
-            if has_viewport_variant(row):
-                labels, values = _label_split(layout)
-                labels.label(text=row["label"])
-                values.prop(props, name, text="")
-                values.prop(props, VIEWPORT_PREFIX + name, text="")
-            else:
-                layout.prop(props, name)
+            _draw_row(layout, props, row)
 
     slug = "".join(c if c.isalnum() else "_" for c in group.lower())
     return type(f"BOUNCE_PT_settings_{slug}", (BouncePanel, bpy.types.Panel),

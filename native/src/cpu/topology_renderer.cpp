@@ -246,11 +246,11 @@ bool TopologyRenderer::prepare_topology(const BounceSettings& settings, const Re
 
 void TopologyRenderer::prepare_vpls(const GpuScene& scene, const BounceSettings& settings, uint32_t seed) {
   uint64_t key = mix(scene.light_version() ^ mix(topology_key_));
-  for (uint64_t v : {uint64_t(settings.topology_vpls), uint64_t(settings.topology_bounces), uint64_t(seed)})
+  for (uint64_t v : {uint64_t(settings.topology_vpls), uint64_t(settings.bounces), uint64_t(seed)})
     key = mix(key ^ v);
   if (key == vpl_key_) return;
   VplOptions options;
-  options.bounces = settings.topology_bounces;
+  options.bounces = settings.bounces;
   options.paths = (settings.topology_vpls + options.bounces - 1) / options.bounces;
   options.seed = seed;
   vpls_ = trace_vpls(scene_, scene.lights(), options);

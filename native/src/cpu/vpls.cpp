@@ -122,7 +122,9 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
     glm::vec3 power = ray.power / float(paths_of[light_of[i]]);
     for (int bounce = 1; bounce <= bounces; ++bounce) {
       if (!(weight(power) > 0.0f) || !std::isfinite(weight(power))) break;
-      const auto hit = scene.bvh().intersect(ray.origin, ray.direction, offset, std::numeric_limits<float>::infinity());
+      // The origin is already off its surface: a near limit as well would skip an adjoining face within it (the
+      // floor of a box seen from next to a corner) and let paths out of closed volumes.
+      const auto hit = scene.bvh().intersect(ray.origin, ray.direction, 0.0f, std::numeric_limits<float>::infinity());
       if (!hit) break;
       const Surface s = scene.surface(*hit, ray.direction);
       power *= s.albedo;

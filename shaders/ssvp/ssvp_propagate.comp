@@ -1,10 +1,15 @@
 // Second-bounce VPLs (Sec. II-B): cluster c's VPLs sit at uniform points of the unit disk of its paraboloid
-// map (the map's image is that disk, so no sample is wasted outside it). The cluster acts as one light at its
-// centre whose intensity towards w is the sum of its members' cosine lobes, flux_i / pi max(n_i . w, 0). A
-// disk point p stands for the solid angle (pi / M) 4 / (1 + |p|^2)^2 (the map's Jacobian), so the VPL at the
-// surface seen there carries albedo x intensity x that solid angle, and the M VPLs together carry what the
-// surfaces in the hemisphere reflect of the cluster's light. Each is later shadowed by the map of the cluster
-// nearest it under Eq. 2.
+// map (the map's image is that disk, so no sample is wasted outside it). A disk point p stands for the solid angle
+// (pi / M) 4 / (1 + |p|^2)^2 (the map's Jacobian) seen from the cluster's centre, hence for the surface patch of
+// area A = solid angle x d^2 / cos there. The VPL at that surface y carries what the patch reflects of the
+// cluster's first-bounce light: albedo x A x the irradiance its members give y, each member i from its own
+// position and normal, flux_i / pi x cos_i cos_y / d_i^2 (capped as the shading caps it), so the M VPLs together
+// carry what the surfaces seen from the centre reflect. The paper renders the map "in the same fashion as the
+// RSM", which leaves the transfer open; treating the cluster as one light at its centre (the members' cosine
+// lobes from there) let light through wherever the centre floats away from its members: a cluster mixing a
+// sunlit roof and a courtyard floor lit the galleries under the roof from mid-air, 4-7x too bright. The map
+// still decides which surfaces the centre sees. Each VPL is later shadowed by the map of the cluster nearest it
+// under Eq. 2.
 #include "ssvp/ssvp_common.glsl"
 
 layout(local_size_x = 64) in;
@@ -29,16 +34,13 @@ void main() {
   vpl.flux = vec4(0.0);
   if (albedo.a > 0.0) {
     Cluster cluster = clusters[c];
-    vec3 local = ssvp_paraboloid_direction(p);
-    vec3 w = local.x * cluster.tangent.xyz + local.y * cluster.bitangent.xyz + local.z * cluster.normal_count.xyz;
-    vec3 intensity = vec3(0.0);
-    int first = int(cluster.position_first.w);
-    int count = int(cluster.normal_count.w);
-    for (int i = first; i < first + count; ++i)
-      intensity += first_vpls[i].flux.rgb * max(dot(first_vpls[i].normal.xyz, w), 0.0) / SSVP_PI;
     float solid_angle = SSVP_PI / float(ssvp.second_per_cluster) * ssvp_paraboloid_solid_angle_density(p);
     vec3 y = texelFetch(paraboloid_position, texel, 0).xyz;
     vec3 n = texelFetch(paraboloid_normal, texel, 0).xyz;
+    vec3 irradiance = vec3(0.0);
+    int first = int(cluster.position_first.w);
+    int count = int(cluster.normal_count.w);
+    for (int i = first; i < first + count; ++i) irradiance += vpl_irradiance(first_vpls[i], y, n);
     int nearest = c;
     float nearest_distance = 1e30;
     for (int k = 0; k < ssvp.cluster_count; ++k) {
@@ -55,7 +57,7 @@ void main() {
     float d2 = dot(to_centre, to_centre);
     float area = solid_angle * d2 / max(dot(n, to_centre) * inversesqrt(max(d2, 1e-30)), MIN_COSINE);
     vpl.normal = vec4(n, area);
-    vpl.flux = vec4(albedo.rgb * intensity * solid_angle, 1.0);
+    vpl.flux = vec4(albedo.rgb * irradiance * area, 1.0);
     if (any(isnan(vpl.flux)) || any(isinf(vpl.flux))) vpl.flux = vec4(0.0);
   }
   second_vpls[g] = vpl;

@@ -1,11 +1,7 @@
 // Interleaved shading (Sec. II-C): the pixel at (x mod T, y mod T) of its T x T tile takes every T^2-th VPL,
-// starting at an offset that turns with the progressive sample, weighted by T^2. A VPL with flux F at p,
-// normal n_p, lights the receiver x with irradiance F / pi G, G = max(n_p . l, 0) max(n . -l, 0) / max(d^2, eps^2),
-// times the clustered visibility: whether x is seen from the centre of the VPL's cluster in its paraboloid map.
-// G is also capped at pi / A, A the area of the surface the VPL stands for: then a VPL never gives more
-// irradiance than that surface's exitance F / A, which a point light next to a receiver would exceed without
-// bound. The cap loosens as VPLs grow more numerous (A shrinks), so the shading still converges to the VPLs'
-// limit, and it leaves the cosines' falloff alone (inside a sphere, G = 1 / 4R^2 everywhere, and no cap applies).
+// starting at an offset that turns with the progressive sample, weighted by T^2. Each VPL gives its irradiance
+// (vpl_irradiance in ssvp_common.glsl: flux / pi G, G capped) times the clustered visibility: whether x is seen
+// from the centre of the VPL's cluster in its paraboloid map.
 // Outputs irradiance / pi (the compose pass multiplies the albedo): both bounces, and the second alone.
 #include "ssvp/ssvp_common.glsl"
 
@@ -39,14 +35,9 @@ float cluster_visibility(int c, vec3 x, vec3 n) {
 }
 
 vec3 vpl_light(Vpl vpl, vec3 x, vec3 n) {
-  if (vpl.flux.w == 0.0) return vec3(0.0);
-  vec3 to_vpl = vpl.position_cluster.xyz - x;
-  float d2 = dot(to_vpl, to_vpl);
-  vec3 l = to_vpl * inversesqrt(max(d2, 1e-30));
-  float g = max(dot(n, l), 0.0) * max(dot(vpl.normal.xyz, -l), 0.0) / max(d2, ssvp.epsilon * ssvp.epsilon);
-  g = min(g, SSVP_PI / max(vpl.normal.w, 1e-30));
-  if (g == 0.0) return vec3(0.0);
-  return vpl.flux.rgb * (g / SSVP_PI) * cluster_visibility(int(vpl.position_cluster.w), x, n);
+  vec3 e = vpl_irradiance(vpl, x, n);
+  if (e == vec3(0.0)) return e;
+  return e * cluster_visibility(int(vpl.position_cluster.w), x, n);
 }
 
 void main() {

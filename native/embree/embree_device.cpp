@@ -1,5 +1,6 @@
 #include "embree_device.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -63,6 +64,15 @@ struct Geometry {
   std::vector<glm::vec3> positions;
   std::vector<std::array<uint32_t, 3>> triangles;
 };
+
+// Embree's ray.valid(): finite values below its 1.844e18 limit, 0 <= tnear <= tfar (debug builds assert on it,
+// and Debian's keep assertions, so an invalid ray would abort the process).
+bool valid_ray(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) {
+  constexpr float kLimit = 1.8e18f;
+  for (int c = 0; c < 3; ++c)
+    if (!(std::abs(origin[c]) < kLimit) || !(std::abs(dir[c]) < kLimit)) return false;
+  return tmin >= 0.0f && !(tmin > tmax) && !std::isnan(tmax);
+}
 
 void init_ray(RTCRay& ray, glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) {
   ray.org_x = origin.x;
@@ -179,6 +189,7 @@ bool Scene::committed() const { return impl_->committed; }
 
 std::optional<Hit> Scene::intersect(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) const {
   impl_->require_committed();
+  if (!valid_ray(origin, dir, tmin, tmax)) return std::nullopt;
   RTCRayHit query{};
   init_ray(query.ray, origin, dir, tmin, tmax);
   query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -205,6 +216,7 @@ std::optional<Hit> Scene::intersect(glm::vec3 origin, glm::vec3 dir, float tmin,
 
 bool Scene::occluded(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) const {
   impl_->require_committed();
+  if (!valid_ray(origin, dir, tmin, tmax)) return false;
   RTCRay query{};
   init_ray(query, origin, dir, tmin, tmax);
 #if BOUNCE_EMBREE4
@@ -216,6 +228,23 @@ bool Scene::occluded(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) co
 #endif
   // Embree marks an occluded ray by setting tfar to -inf.
   return query.tfar < 0.0f && std::isinf(query.tfar);
+}
+
+std::optional<Hit> Scene::intersect(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax,
+                                    const HitFilter& counts) const {
+  constexpr int kMaxSkipped = 256;  // cut-outs passed through before the ray counts as blocked
+  for (int skipped = 0; skipped < kMaxSkipped; ++skipped) {
+    std::optional<Hit> hit = intersect(origin, dir, tmin, tmax);
+    if (!hit || !counts || counts(*hit)) return hit;
+    // Past this hit: the next float up, and a relative step so a hit far along the ray is not found again.
+    tmin = std::max(std::nextafter(hit->t, std::numeric_limits<float>::infinity()), hit->t * (1.0f + 1e-6f));
+  }
+  return intersect(origin, dir, tmin, tmax);
+}
+
+bool Scene::occluded(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax, const HitFilter& counts) const {
+  if (!counts) return occluded(origin, dir, tmin, tmax);
+  return intersect(origin, dir, tmin, tmax, counts).has_value();
 }
 
 std::array<glm::vec3, 3> Scene::triangle(uint32_t geometry_id, uint32_t prim_id) const {

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -60,10 +61,17 @@ class Scene {
   void commit();
   bool committed() const;
 
-  // The closest hit with t in [tmin, tmax]; dir need not be unit (t is in units of |dir|).
+  // The closest hit with t in [tmin, tmax]; dir need not be unit (t is in units of |dir|). A ray Embree cannot
+  // take (a non-finite or overflowing origin or direction, tmin < 0 or > tmax: its debug builds assert on them)
+  // hits nothing.
   std::optional<Hit> intersect(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) const;
-  // Whether any hit has t in [tmin, tmax].
+  // Whether any hit has t in [tmin, tmax]. A ray Embree cannot take is not occluded.
   bool occluded(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) const;
+  // The same, counting only the hits `counts` accepts (alpha cut-outs let the others through): the closest hits
+  // are walked in order. `counts` may be empty: every hit counts.
+  using HitFilter = std::function<bool(const Hit&)>;
+  std::optional<Hit> intersect(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax, const HitFilter& counts) const;
+  bool occluded(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax, const HitFilter& counts) const;
 
   std::array<glm::vec3, 3> triangle(uint32_t geometry_id, uint32_t prim_id) const;
   uint32_t geometry_count() const;

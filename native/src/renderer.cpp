@@ -71,6 +71,20 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
   };
   const bool flc = settings.method == BOUNCE_METHOD_FLC;
   const bool ssvp = settings.method == BOUNCE_METHOD_SSVP;
+  const bool traced_direct = settings.shadow_method == BOUNCE_SHADOWS_RAY_TRACED;
+  const bool flc_visibility = flc && settings.flc_visibility;
+  if (traced_direct || flc_visibility) cpu_scene_.sync(scene_);
+  if (flc_visibility) {
+    const uint64_t builds = cpu::topology_builds();
+    std::shared_ptr<const topology::Topology> topology;
+    {
+      StageScope scope(timer_, Stage::TopologyPrecompute);
+      topology = flc_topologies_.get(cpu_scene_, settings, callbacks);
+    }
+    if (!topology) return false;  // cancelled while building
+    if (cpu::topology_builds() != builds) callbacks.status("", 0.0f);
+    topology_visibility_.prepare(topology);
+  }
   uint32_t vpl_count = 0, divergent_count = 0, cluster_count = 0;
   int main_light = -1;
   auto finish_info = [&](Frame& into, int samples_done) {
@@ -109,11 +123,18 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
           seed};
       gbuffer_.execute(context);
       if (flc) flc_.generate(context);
-      direct_.execute(context, gbuffer_.gbuffer(), shadows_, [&] {
+      const auto light_flc_vpls = [&] {
         if (flc) flc_.add_light(context);
-      });
+      };
+      if (traced_direct) {
+        traced_direct_.execute(context, gbuffer_.gbuffer(), cpu_scene_);
+        if (flc) direct_.for_each_shadowed_light(context, shadows_, light_flc_vpls);
+      } else {
+        direct_.execute(context, gbuffer_.gbuffer(), shadows_, light_flc_vpls);
+      }
       if (flc) {
-        flc_.shade(context, gbuffer_.gbuffer());
+        if (flc_visibility) topology_visibility_.execute(context, gbuffer_.gbuffer());
+        flc_.shade(context, gbuffer_.gbuffer(), flc_visibility ? &topology_visibility_ : nullptr);
         vpl_count = flc_.vpl_count();
         divergent_count = flc_.divergent_count();
       }
@@ -126,7 +147,8 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
         main_light = ssvp_.main_light() < 0 ? -1 : static_cast<int>(scene_.light_source_index(ssvp_.main_light()));
         if (ssvp_.active()) indirect = {ssvp_.indirect(), true, ssvp_.debug(), ssvp_.second()};
       }
-      compose_.accumulate(context, gbuffer_.gbuffer(), direct_.output(), indirect);
+      compose_.accumulate(context, gbuffer_.gbuffer(), traced_direct ? traced_direct_.output() : direct_.output(),
+                          indirect);
       gl::check("rendering a sample");
       timer_.resolve();
       const int done = static_cast<int>(t) * samples + s + 1;

@@ -1,6 +1,7 @@
 // Renders a frame on the render thread: tiles of at most settings.tile_size pixels, each the average of
-// settings.samples progressive samples; a sample runs G-buffer -> [FLC VPLs] -> shadows + direct (+ FLC VPL
-// lighting) per light -> [FLC splat] -> compose.
+// settings.samples progressive samples; a sample runs G-buffer -> [FLC VPLs] -> direct light (shadow maps, or
+// Embree rays) + [FLC VPL lighting by each light's shadow map] -> [pixels' visibility clusters] -> [FLC splat |
+// SSVP] -> compose. The Topology method renders on the CPU instead (cpu::TopologyRenderer).
 #pragma once
 
 #include <functional>
@@ -14,10 +15,12 @@
 #include "gpu_scene.h"
 #include "passes/compose/compose_pass.h"
 #include "passes/direct/direct_pass.h"
+#include "passes/direct/traced_direct_pass.h"
 #include "passes/flc/flc_pass.h"
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/shadows/shadow_pass.h"
 #include "passes/ssvp/ssvp_pass.h"
+#include "passes/topology_visibility/topology_visibility_pass.h"
 #include "render_callbacks.h"
 #include "stage_timer.h"
 
@@ -38,15 +41,19 @@ class Renderer {
 
  private:
   GpuScene scene_;
+  cpu::CpuScene cpu_scene_;  // Embree's copy of the scene: ray-traced direct light and the Topology method
   StageTimer timer_;
   gl::Buffer settings_buffer_;  // the `Settings` uniform block of every shader
   GBufferPass gbuffer_;
   ShadowPass shadows_;
   DirectPass direct_;
+  TracedDirectPass traced_direct_;
   FlcPass flc_;
+  cpu::TopologyCache flc_topologies_;  // Forward Light Cuts' Indirect Shadows
+  TopologyVisibilityPass topology_visibility_;
   SsvpPass ssvp_;
   ComposePass compose_;
-  cpu::TopologyRenderer topology_;
+  cpu::TopologyRenderer topology_{cpu_scene_};
 };
 
 }  // namespace bounce

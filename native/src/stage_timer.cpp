@@ -12,6 +12,8 @@ const char* stage_name(Stage stage) {
       return "Shadows";
     case Stage::Direct:
       return "Direct";
+    case Stage::TracedDirect:
+      return "Direct (ray traced)";
     case Stage::FlcRegular:
       return "FLC regular";
     case Stage::FlcDivergent:
@@ -22,6 +24,8 @@ const char* stage_name(Stage stage) {
       return "FLC splat";
     case Stage::FlcResolve:
       return "FLC untile + blur";
+    case Stage::TopologyVisibility:
+      return "Topology visibility";
     case Stage::SsvpRsm:
       return "SSVP RSM";
     case Stage::SsvpCluster:

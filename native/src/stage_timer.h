@@ -14,11 +14,13 @@ enum class Stage {
   GBuffer,
   Shadows,
   Direct,
+  TracedDirect,        // direct light by Embree shadow rays (CPU), G-buffer readback and upload included
   FlcRegular,          // Forward Light Cuts: regular pipeline (decimation, partition, VPLs)
   FlcDivergent,        // subdivision of the divergent triangles
   FlcLighting,         // direct irradiance at the VPLs
   FlcSplat,            // splatting into the interleaved sub-images
   FlcResolve,          // untiling and blur
+  TopologyVisibility,  // the pixels' visibility clusters (Forward Light Cuts' Indirect Shadows)
   SsvpRsm,             // Screen-Space VPL Propagation: the main light's reflective shadow map
   SsvpCluster,         // first-bounce sampling, k-means, second-bounce propagation (the paper's "Misc")
   SsvpParaboloids,     // one paraboloid map per cluster

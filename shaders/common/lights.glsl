@@ -41,65 +41,12 @@ float spot_attenuation(vec3 from_light) {
   return light.spot_sun.y != 0.0 ? factor * cos_phi : factor;
 }
 
-// Lambert's polygon formula: the cosine-weighted solid angle of a polygon seen from the origin, i.e.
-// E = L * polygon_projected_solid_angle(...). Vertices are relative to the receiver and already clipped to its
-// upper hemisphere.
-const int MAX_POLYGON = 40;
-const int ELLIPSE_SEGMENTS = 32;
+#include "common/lambert_shared.glsl"
 
-float polygon_projected_solid_angle(vec3 vertices[MAX_POLYGON], int count, vec3 n) {
-  float sum = 0.0;
-  for (int i = 0; i < count; ++i) {
-    vec3 a = normalize(vertices[i]);
-    vec3 b = normalize(vertices[(i + 1) % count]);
-    vec3 c = cross(a, b);
-    float sin_theta = length(c);
-    float theta = atan(sin_theta, dot(a, b));
-    sum += dot(n, c) * (sin_theta > 1e-7 ? theta / sin_theta : 1.0);
-  }
-  return 0.5 * abs(sum);
-}
-
-// Sutherland-Hodgman against the receiver's tangent plane: light below the horizon does not reach it.
-int clip_to_horizon(vec3 vertices[MAX_POLYGON], int count, vec3 n, out vec3 clipped[MAX_POLYGON]) {
-  int out_count = 0;
-  for (int i = 0; i < count; ++i) {
-    vec3 a = vertices[i];
-    vec3 b = vertices[(i + 1) % count];
-    float da = dot(n, a);
-    float db = dot(n, b);
-    if (da >= 0.0 && out_count < MAX_POLYGON) clipped[out_count++] = a;
-    if ((da >= 0.0) != (db >= 0.0) && out_count < MAX_POLYGON) clipped[out_count++] = mix(a, b, da / (da - db));
-  }
-  return out_count;
-}
-
-// The emitter outline in world space: a rectangle, or an ellipse as a polygon scaled to the ellipse's area.
+// The emitter outline of this light in world space.
 int area_light_polygon(out vec3 vertices[MAX_POLYGON]) {
-  vec3 c = light.position_type.xyz;
-  vec3 u = light.axis_x.xyz * light.shape.y;
-  vec3 v = light.axis_y.xyz * light.shape.z;
-  if (light_type() == LIGHT_AREA_RECT) {
-    vertices[0] = c - u - v;
-    vertices[1] = c + u - v;
-    vertices[2] = c + u + v;
-    vertices[3] = c - u + v;
-    return 4;
-  }
-  const float step = 2.0 * PI / float(ELLIPSE_SEGMENTS);
-  // Inscribed N-gon area is (N/2) sin(2 pi / N) r^2; scale so it equals pi r^2.
-  float scale = sqrt(PI / (0.5 * float(ELLIPSE_SEGMENTS) * sin(step)));
-  for (int i = 0; i < ELLIPSE_SEGMENTS; ++i) {
-    float angle = step * float(i);
-    vertices[i] = c + scale * (cos(angle) * u + sin(angle) * v);
-  }
-  return ELLIPSE_SEGMENTS;
-}
-
-float planar_polygon_area(vec3 vertices[MAX_POLYGON], int count) {
-  vec3 sum = vec3(0.0);
-  for (int i = 0; i < count; ++i) sum += cross(vertices[i], vertices[(i + 1) % count]);
-  return 0.5 * length(sum);
+  return emitter_polygon(light.position_type.xyz, light.axis_x.xyz * light.shape.y, light.axis_y.xyz * light.shape.z,
+                         light_type() == LIGHT_AREA_RECT, vertices);
 }
 
 // Unshadowed irradiance at x with shading normal n, per colour channel. `above_horizon` is the fraction of the

@@ -21,6 +21,7 @@ layout(std140, binding = 5) uniform FlcParams {
   int tile_width, tile_height;    // of one interleaved sub-image
   float scene_radius;
   float d0;                    // D_0 = D_near (Eq. 1, 18)
+  int visibility;              // 1: Indirect Shadows (shaders/topology_visibility/visibility.glsl)
 } flc;
 
 // One virtual point light: a triangle that survived Alg. 1, its point y_i and level k, and the direct

@@ -1,6 +1,8 @@
 // Splatting, fragment stage: the VPL's contribution H(t_i, x, n_x) F^k(t_i, x) to the receiver of this pixel
-// (Eq. 5, 6, 10, 14, 16), added into the interleaved indirect target.
+// (Eq. 5, 6, 10, 14, 16), added into the interleaved indirect target; with Indirect Shadows, only where the
+// topology's clusters and gates let the VPL reach the pixel.
 #include "flc/flc_common.glsl"
+#include "topology_visibility/visibility.glsl"
 
 layout(binding = 1) uniform sampler2D g_albedo;
 layout(binding = 2) uniform sampler2D g_normal;
@@ -11,6 +13,9 @@ flat in vec3 s_vpl_normal;
 flat in vec3 s_radiance_factor;
 flat in vec4 s_partition;
 flat in ivec2 s_tile;
+flat in uint s_cluster;
+
+layout(binding = 21) uniform usampler2D pixel_clusters;  // TopologyVisibilityPass::kPixelClustersUnit
 
 layout(location = 0) out vec4 out_indirect;
 
@@ -36,6 +41,9 @@ void main() {
   if (albedo.a == 0.0) discard;
   float cos_receiver = -dot(texelFetch(g_normal, pixel, 0).xyz, direction);
   if (cos_receiver <= 0.0) discard;
+  if (flc.visibility != 0 &&
+      !topology_reaches(s_cluster, s_vpl_position, texelFetch(pixel_clusters, pixel, 0).r, x))
+    discard;
   float clamped = max(flc.epsilon, distance);
   // L(t_i, y_i x) = rho_i E 3/(2 pi) <n_i, y_i x>+ (Eq. 6); H = L rho_x <n_x, x y_i>+ <n_i, y_i x>+ / (pi d^2).
   vec3 h = s_radiance_factor * cos_emitter * albedo.rgb * cos_receiver * cos_emitter / (FLC_PI * clamped * clamped);

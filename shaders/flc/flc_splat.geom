@@ -3,6 +3,7 @@
 // The last level reaches everywhere and covers the whole view. With interleaved sampling the VPL shades one
 // of the 4^level sub-images only, picked by its random (Sec. 6), and the quad is drawn into that sub-image.
 #include "flc/flc_common.glsl"
+#include "topology_visibility/visibility.glsl"
 
 layout(points) in;
 layout(triangle_strip, max_vertices = 8) out;
@@ -14,6 +15,7 @@ flat out vec3 s_vpl_normal;
 flat out vec3 s_radiance_factor;  // rho_i E 3 / (2 pi) of Eq. 6, times S_k and the interleaving weight
 flat out vec4 s_partition;  // D_{k-1}, D_k, D_{k+1}, and (k == 0) + 2 (k == N)
 flat out ivec2 s_tile;
+flat out uint s_cluster;  // Indirect Shadows: the visibility cluster on the lit side
 
 layout(location = 0) uniform mat4 u_view_projection;
 
@@ -64,6 +66,7 @@ void emit_side(Vpl vpl, vec3 n, vec3 irradiance, ivec2 tile, float tile_weight) 
                      level < flc.levels ? flc_level_distance(flc.d0, flc.mu, level + 1) : 0.0,
                      float((level == 0 ? 1 : 0) + (level == flc.levels ? 2 : 0)));
   s_tile = tile;
+  s_cluster = flc.visibility != 0 ? topology_cluster_at(vpl.position_scale.xyz, n) : TOPOLOGY_NO_CLUSTER;
   for (int i = 0; i < 4; ++i) {
     vec2 corner = vec2((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y);
     gl_Position = vec4((origin + corner) / target * 2.0 - 1.0, 0.0, 1.0);

@@ -30,8 +30,8 @@ def cornell(blender, cornell_blend, out_root):
 
 def test_passes_and_precomputation(cornell):
     image, stdout = cornell["a"]
-    assert {c.split(".")[1] for c in image} == {"Combined", "Direct", "Indirect", "Emission", "Albedo", "Normal",
-                                                 "Depth", "Topology"}
+    assert {c.split(".")[1] for c in image} == {"Combined", "Direct", "Indirect", "Second Bounce", "Emission",
+                                                 "Albedo", "Normal", "Depth", "Topology"}
     for name in ("Combined", "Direct", "Indirect", "Topology"):
         assert np.all(np.isfinite(layer_pass(image, name))), name
     indirect, direct = layer_pass(image, "Indirect"), layer_pass(image, "Direct")

@@ -98,6 +98,7 @@ class FlcUnbiased : public RenderFixture {
     set_camera(glm::lookAt(glm::vec3(0.5f, -1.4f, 0.5f), glm::vec3(0.5f, 0.5f, 0.5f), glm::vec3(0, 0, 1)),
                glm::perspective(glm::radians(38.0f), 1.0f, 0.1f, 10.0f), kSize, kSize);
     settings_.method = BOUNCE_METHOD_FLC;
+    settings_.flc_visibility = 0;  // the paper's model: L^ML has no indirect visibility
     settings_.filter_width = 0.0f;
     settings_.flc_jitter = 0;
     settings_.flc_tiling = 0;

@@ -23,7 +23,13 @@ class AnalyticLights : public RenderFixture {
 
   // Compares every pixel whose expected value exceeds 1 % of the peak against `irradiance(x)`.
   void expect_matches(const std::function<float(glm::vec3)>& irradiance, float tolerance = 0.01f) {
-    for (int shadows = 0; shadows < 2; ++shadows) {
+    for (int method : {BOUNCE_SHADOWS_MAPS, BOUNCE_SHADOWS_RAY_TRACED})
+      for (int shadows = 0; shadows < 2; ++shadows) expect_matches_with(irradiance, tolerance, method, shadows);
+  }
+  void expect_matches_with(const std::function<float(glm::vec3)>& irradiance, float tolerance, int method,
+                           int shadows) {
+    {
+      settings_.shadow_method = method;
       light_.cast_shadow = shadows;
       set_lights({light_});
       const Image image = render(BOUNCE_AOV_COMBINED);
@@ -46,9 +52,9 @@ class AnalyticLights : public RenderFixture {
         }
       }
       EXPECT_GT(compared, 100);
-      EXPECT_LT(worst, tolerance) << "shadows " << shadows << ", worst pixel (" << worst_pixel_.x << ", "
-                                  << worst_pixel_.y << "): " << worst_pixel_.got << " instead of "
-                                  << worst_pixel_.expected;
+      EXPECT_LT(worst, tolerance) << "shadow method " << method << ", shadows " << shadows << ", worst pixel ("
+                                  << worst_pixel_.x << ", " << worst_pixel_.y << "): " << worst_pixel_.got
+                                  << " instead of " << worst_pixel_.expected;
     }
   }
 

@@ -78,6 +78,16 @@ class RenderFixture : public ::testing::Test {
     mesh.triangles = triangles.data();
     ASSERT_BOUNCE_OK(bounce_mesh_set(engine_, key, &mesh));
   }
+  // A triangle soup (vertices 3i, 3i + 1, 3i + 2 make triangle i) as one mesh.
+  void add_soup(uint64_t key, const std::vector<glm::vec3>& vertices) {
+    std::vector<float> positions;
+    std::vector<uint32_t> triangles;
+    for (const glm::vec3& v : vertices) {
+      triangles.push_back(static_cast<uint32_t>(positions.size() / 3));
+      positions.insert(positions.end(), {v.x, v.y, v.z});
+    }
+    add_mesh(key, positions, triangles);
+  }
   void add_plane(uint64_t key, float size) {
     const float h = size / 2;
     add_mesh(key, {-h, -h, 0, h, -h, 0, h, h, 0, -h, h, 0}, {0, 1, 2, 0, 2, 3});

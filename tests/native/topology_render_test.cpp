@@ -21,18 +21,9 @@ class TopologyRender : public RenderFixture {
     settings_.topology_vpls = 256;
     settings_.samples = 1;
   }
-  void add_soup(uint64_t key, const Soup& soup) {
-    std::vector<float> positions;
-    std::vector<uint32_t> triangles;
-    for (const glm::vec3& v : soup.vertices) {
-      triangles.push_back(static_cast<uint32_t>(positions.size() / 3));
-      positions.insert(positions.end(), {v.x, v.y, v.z});
-    }
-    add_mesh(key, positions, triangles);
-  }
   // Two rooms, a point light high in the first, the camera in the second looking back at the doorway wall.
   void build_two_rooms(glm::vec3 light = {4.0f, 5.0f, 3.0f}) {
-    add_soup(1, two_rooms());
+    add_soup(1, two_rooms().vertices);
     set_instances({1}, {glm::mat4(1.0f)});
     set_albedo(0.8f);
     set_lights({make_light(BOUNCE_LIGHT_POINT, light, glm::vec3(200.0f))});
@@ -129,7 +120,7 @@ TEST_F(TopologyRender, DebugPassShowsClustersAndGates) {
 TEST_F(TopologyRender, LightInsideAWallLightsNothingIndirectly) {
   Soup soup = two_rooms();
   soup.box({3.8f, 4.8f, 2.8f}, {4.2f, 5.2f, 3.2f});  // a sealed block around the light
-  add_soup(1, soup);
+  add_soup(1, soup.vertices);
   set_instances({1}, {glm::mat4(1.0f)});
   set_albedo(0.8f);
   set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(4.0f, 5.0f, 3.0f), glm::vec3(200.0f))});
@@ -169,7 +160,7 @@ TEST_F(TopologyRender, HardScenesRenderWithoutNaN) {
 
 TEST_F(TopologyRender, SolidGridStillLightsDirectly) {
   // A scene the grid cannot see into (a closed box smaller than a voxel): no empty space, no clusters.
-  add_soup(1, Soup().box({0, 0, 0}, {1, 1, 1}));
+  add_soup(1, Soup().box({0, 0, 0}, {1, 1, 1}).vertices);
   set_instances({1}, {glm::mat4(1.0f)});
   set_albedo(0.8f);
   set_lights({make_light(BOUNCE_LIGHT_SUN, glm::vec3(0.0f), glm::vec3(3.0f))});

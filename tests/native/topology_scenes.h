@@ -63,6 +63,14 @@ inline Soup two_rooms() {
   return s;
 }
 
+// The same two rooms with a solid middle wall: no light can pass from one to the other.
+inline Soup two_closed_rooms() {
+  Soup s;
+  s.box({0, 0, 0}, {20, 10, 4});
+  s.quad({10, 0, 0}, {10, 10, 4}, 0);
+  return s;
+}
+
 // A square ring corridor: a closed 12 x 12 x 3 hall with a closed 6 x 6 block in its middle.
 inline Soup ring_corridor() {
   Soup s;

@@ -74,6 +74,8 @@ typedef enum BounceMethod {
   BOUNCE_METHOD_TOPOLOGY = 4
 } BounceMethod;
 
+typedef enum BounceShadowMethod { BOUNCE_SHADOWS_MAPS = 0, BOUNCE_SHADOWS_RAY_TRACED = 1 } BounceShadowMethod;
+
 BOUNCE_API size_t bounce_settings_size(void);
 BOUNCE_API void bounce_settings_defaults(BounceSettings* out);
 /* JSON array, one object per setting in struct order: name, type, kind, label, default, min, max, soft_min,

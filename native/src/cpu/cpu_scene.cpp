@@ -28,22 +28,22 @@ const std::array<float, 256>& srgb_to_linear() {
   return table;
 }
 
-glm::vec3 texel(const TextureData& texture, int x, int y) {
+glm::vec4 texel(const TextureData& texture, int x, int y) {
   x = ((x % texture.width) + texture.width) % texture.width;  // GL_REPEAT, as the GPU samples
   y = ((y % texture.height) + texture.height) % texture.height;
   const std::size_t index = std::size_t(y) * std::size_t(texture.width) + std::size_t(x);
   if (texture.format == BOUNCE_TEXTURE_RGBA32F) {
     const auto* f = reinterpret_cast<const float*>(texture.bytes.data()) + 4 * index;
-    return {f[0], f[1], f[2]};
+    return {f[0], f[1], f[2], f[3]};
   }
   const unsigned char* b = texture.bytes.data() + 4 * index;
   if (texture.format == BOUNCE_TEXTURE_RGBA8_SRGB)
-    return {srgb_to_linear()[b[0]], srgb_to_linear()[b[1]], srgb_to_linear()[b[2]]};
-  return glm::vec3(b[0], b[1], b[2]) / 255.0f;
+    return {srgb_to_linear()[b[0]], srgb_to_linear()[b[1]], srgb_to_linear()[b[2]], float(b[3]) / 255.0f};
+  return glm::vec4(b[0], b[1], b[2], b[3]) / 255.0f;
 }
 
 // Bilinear, rows bottom first, like the GPU's GL_LINEAR level 0.
-glm::vec3 sample(const TextureData& texture, glm::vec2 uv) {
+glm::vec4 sample(const TextureData& texture, glm::vec2 uv) {
   const float x = uv.x * float(texture.width) - 0.5f, y = uv.y * float(texture.height) - 0.5f;
   if (!std::isfinite(x) || !std::isfinite(y) || std::abs(x) > 1e8f || std::abs(y) > 1e8f) return texel(texture, 0, 0);
   const float fx = std::floor(x), fy = std::floor(y);
@@ -70,7 +70,8 @@ bool CpuScene::sync(const GpuScene& scene) {
       const BounceMaterial& m = part.material;
       const TextureData* texture = scene.texture_data(m.base_color_texture);
       const bool usable = texture && texture->width > 0 && texture->height > 0;
-      materials_.push_back({glm::make_vec3(m.base_color), glm::make_vec3(m.emission), usable ? texture : nullptr});
+      materials_.push_back({glm::make_vec3(m.base_color), glm::make_vec3(m.emission), usable ? texture : nullptr,
+                            m.alpha, m.alpha_threshold, usable && m.alpha_from_texture != 0});
     }
     const glm::mat4& to_world = part.instance.object_to_world;
     const glm::mat3 normal_to_world(part.instance.normal_to_world);
@@ -90,7 +91,27 @@ bool CpuScene::sync(const GpuScene& scene) {
   bvh_ = std::make_unique<embree::Scene>(device_);
   bvh_->add_triangles(positions_);
   bvh_->commit();
+  const bool cutouts = std::any_of(materials_.begin(), materials_.end(), [](const Material& m) {
+    return m.alpha_from_texture || m.alpha < m.alpha_threshold;
+  });
+  opaque_ = cutouts ? embree::Scene::HitFilter([this](const embree::Hit& hit) { return has_surface(hit); })
+                    : embree::Scene::HitFilter();
   return true;
+}
+
+std::optional<embree::Hit> CpuScene::intersect(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) const {
+  return bvh_->intersect(origin, dir, tmin, tmax, opaque_);
+}
+
+bool CpuScene::occluded(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) const {
+  return bvh_->occluded(origin, dir, tmin, tmax, opaque_);
+}
+
+bool CpuScene::has_surface(const embree::Hit& hit) const {
+  const Material& material = materials_[material_of_[hit.prim_id]];
+  float alpha = material.alpha;
+  if (material.alpha_from_texture) alpha *= sample(*material.texture, uv(hit.prim_id, hit.u, hit.v)).a;
+  return !(alpha < material.alpha_threshold);
 }
 
 float CpuScene::radius() const {
@@ -98,11 +119,14 @@ float CpuScene::radius() const {
   return 0.5f * glm::length(bounds_max() - bounds_min());
 }
 
+glm::vec2 CpuScene::uv(uint32_t triangle, float u, float v) const {
+  return (1.0f - u - v) * uvs_[3 * triangle] + u * uvs_[3 * triangle + 1] + v * uvs_[3 * triangle + 2];
+}
+
 glm::vec3 CpuScene::albedo(uint32_t triangle, float u, float v) const {
   const Material& material = materials_[material_of_[triangle]];
   if (!material.texture) return material.base_color;
-  const glm::vec2 uv = (1.0f - u - v) * uvs_[3 * triangle] + u * uvs_[3 * triangle + 1] + v * uvs_[3 * triangle + 2];
-  return material.base_color * sample(*material.texture, uv);
+  return material.base_color * glm::vec3(sample(*material.texture, uv(triangle, u, v)));
 }
 
 Surface CpuScene::surface(const embree::Hit& hit, glm::vec3 dir) const {

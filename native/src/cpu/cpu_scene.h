@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -25,12 +26,20 @@ struct Surface {
 
 class CpuScene {
  public:
+  CpuScene() = default;
+  CpuScene(const CpuScene&) = delete;  // opaque() refers to this object
+  CpuScene& operator=(const CpuScene&) = delete;
   // Rebuilds from `scene` (prepared) when its geometry changed since the last call; returns whether it did.
-  // Alpha cut-outs are opaque here.
   bool sync(const GpuScene& scene);
 
   const embree::Scene& bvh() const { return *bvh_; }
-  std::span<const glm::vec3> soup() const { return positions_; }  // three corners per triangle
+  // Rays as the rasterizer sees the scene: a hit where an alpha cut-out has no surface (alpha below its
+  // threshold, as shaders/common/scene.glsl decides) lets the ray through. The topology itself is built from
+  // every triangle (soup()).
+  std::optional<embree::Hit> intersect(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) const;
+  bool occluded(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) const;
+  const embree::Scene::HitFilter& opaque() const { return opaque_; }  // empty without cut-outs
+  std::span<const glm::vec3> soup() const { return positions_; }      // three corners per triangle
   std::size_t triangle_count() const { return positions_.size() / 3; }
   // Of every corner position: the key of the topology cache.
   uint64_t geometry_hash() const { return hash_; }
@@ -46,8 +55,12 @@ class CpuScene {
     glm::vec3 base_color{0.8f};
     glm::vec3 emission{0.0f};
     const TextureData* texture = nullptr;  // owned by the GpuScene, which outlives every sync
+    float alpha = 1.0f, alpha_threshold = 0.0f;
+    bool alpha_from_texture = false;
   };
+  glm::vec2 uv(uint32_t triangle, float u, float v) const;
   glm::vec3 albedo(uint32_t triangle, float u, float v) const;
+  bool has_surface(const embree::Hit& hit) const;
 
   uint64_t version_ = 0;
   std::vector<glm::vec3> positions_, normals_;
@@ -57,6 +70,7 @@ class CpuScene {
   uint64_t hash_ = 0;
   std::shared_ptr<embree::Device> device_ = std::make_shared<embree::Device>();
   std::unique_ptr<embree::Scene> bvh_ = std::make_unique<embree::Scene>(device_);
+  embree::Scene::HitFilter opaque_;
 };
 
 }  // namespace bounce::cpu

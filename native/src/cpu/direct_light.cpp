@@ -8,6 +8,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/vec2.hpp>
 
+#include "cpu/lambert.h"
 #include "sampling.h"
 
 namespace bounce::cpu {
@@ -29,8 +30,10 @@ int grid_side(int samples, int dimensions) {
 // The rays of one query.
 struct ShadingContext {
   const embree::Scene& bvh;
+  const embree::Scene::HitFilter& counts;
   float offset;
   int samples;
+  float softness;
   Rng& rng;
 
   // Whether the segment from y (pushed off its surface along n) to `target` is free.
@@ -39,10 +42,10 @@ struct ShadingContext {
     const glm::vec3 to_target = target - origin;
     const float distance = glm::length(to_target);
     if (distance <= offset) return true;
-    return !bvh.occluded(origin, to_target / distance, 0.0f, distance - offset);
+    return !bvh.occluded(origin, to_target / distance, 0.0f, distance - offset, counts);
   }
   bool visible_direction(glm::vec3 y, glm::vec3 n, glm::vec3 dir) const {
-    return !bvh.occluded(y + n * offset, dir, 0.0f, std::numeric_limits<float>::infinity());
+    return !bvh.occluded(y + n * offset, dir, 0.0f, std::numeric_limits<float>::infinity(), counts);
   }
 };
 
@@ -54,8 +57,8 @@ glm::vec3 point_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, S
   const glm::vec3 to_light = centre - y;
   const float d2 = glm::dot(to_light, to_light);
   const glm::vec3 l = to_light / std::sqrt(std::max(d2, 1e-30f));
-  const float r = light.radius;
-  float falloff = std::max(glm::dot(n, l), 0.0f) / (d2 + r * r);
+  const float r = light.radius * context.softness;  // the ball the shadows are seen from
+  float falloff = std::max(glm::dot(n, l), 0.0f) / (d2 + light.radius * light.radius);
   if (light.type == BOUNCE_LIGHT_SPOT) falloff *= spot_attenuation(light, -l);
   const glm::vec3 unshadowed = glm::make_vec3(light.intensity) * falloff;
   if (!(falloff > 0.0f) || !light.cast_shadow) return unshadowed;
@@ -90,8 +93,9 @@ glm::vec3 sun_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sha
   const float cos_n = glm::dot(n, z);
   const glm::vec3 unshadowed = glm::make_vec3(light.intensity) * std::max(cos_n, 0.0f);
   if (!(cos_n > 0.0f) || !light.cast_shadow) return unshadowed;
-  const float cos_max = std::cos(0.5f * light.sun_angle);
-  if (light.sun_angle <= 0.0f) return context.visible_direction(y, n, z) ? unshadowed : glm::vec3(0.0f);
+  const float angle = light.sun_angle * context.softness;
+  const float cos_max = std::cos(0.5f * angle);
+  if (angle <= 0.0f) return context.visible_direction(y, n, z) ? unshadowed : glm::vec3(0.0f);
   const int k = grid_side(context.samples, 2);
   int above = 0, seen = 0;
   for (int i = 0; i < k; ++i) {
@@ -109,36 +113,39 @@ glm::vec3 sun_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sha
   return unshadowed * (float(seen) / float(above));
 }
 
-// Area: E = L * integral over the emitter of cos_y cos_l / r^2 V dA (stratified points); converges to Lambert's
-// polygon formula of lights.glsl where nothing blocks (to the true ellipse, which lights.glsl approximates by
-// an equal-area 32-gon). Only the side facing -axis_z emits.
+// Area: lights.glsl's unshadowed irradiance, L times Lambert's polygon formula over the emitter clipped to y's
+// horizon (the shaders' own code: lambert.h), times the visible fraction of the emitter's points above that
+// horizon (stratified, seen from the light shrunk by the softness), as the shadow maps see it: exact wherever the
+// whole light is seen or hidden, so only penumbrae are estimated (they converge to the light-averaged
+// visibility, exact for small lights). Only the side facing -axis_z emits.
 glm::vec3 area_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, ShadingContext& context) {
   const glm::vec3 c = glm::make_vec3(light.position), z = glm::make_vec3(light.axis_z);
   if (glm::dot(y - c, -z) <= 0.0f) return glm::vec3(0.0f);
   const glm::vec3 u = glm::make_vec3(light.axis_x) * light.half_size[0],
                   v = glm::make_vec3(light.axis_y) * light.half_size[1];
   const bool rect = light.type == BOUNCE_LIGHT_AREA_RECT;
-  const float area = (rect ? 4.0f : kPi) * light.half_size[0] * light.half_size[1];
+  glm::vec3 polygon[lambert::MAX_POLYGON], clipped[lambert::MAX_POLYGON];
+  const int count = lambert::emitter_polygon(c - y, u, v, rect, polygon);
+  const int clipped_count = lambert::clip_to_horizon(polygon, count, n, clipped);
+  if (clipped_count < 3) return glm::vec3(0.0f);
+  const glm::vec3 unshadowed =
+      glm::make_vec3(light.intensity) * lambert::polygon_projected_solid_angle(clipped, clipped_count, n);
+  if (!light.cast_shadow) return unshadowed;
   const int k = grid_side(context.samples, 2);
-  double sum = 0.0;
+  int above = 0, seen = 0;
   for (int i = 0; i < k; ++i) {
     for (int j = 0; j < k; ++j) {
       const float s = (float(i) + context.rng.next()) / float(k);
       const float t = (float(j) + context.rng.next()) / float(k);
       const glm::vec2 q = rect ? glm::vec2(2.0f * s - 1.0f, 2.0f * t - 1.0f) : concentric_disk({s, t});
-      const glm::vec3 p = c + q.x * u + q.y * v;
-      const glm::vec3 to_p = p - y;
-      const float d2 = glm::dot(to_p, to_p);
-      if (!(d2 > 0.0f)) continue;
-      const float d = std::sqrt(d2);
-      const float cos_y = glm::dot(n, to_p) / d;
-      const float cos_l = glm::dot(to_p, z) / d;
-      if (cos_y <= 0.0f || cos_l <= 0.0f) continue;
-      if (light.cast_shadow && !context.visible(y, n, p)) continue;
-      sum += double(cos_y) * double(cos_l) / double(d2);
+      const glm::vec3 p = c + context.softness * (q.x * u + q.y * v);
+      if (glm::dot(n, p - y) <= 0.0f) continue;
+      ++above;
+      if (context.visible(y, n, p)) ++seen;
     }
   }
-  return glm::make_vec3(light.intensity) * static_cast<float>(sum * double(area) / double(k * k));
+  if (above == 0) return context.visible(y, n, c) ? unshadowed : glm::vec3(0.0f);
+  return unshadowed * (float(seen) / float(above));
 }
 
 }  // namespace
@@ -153,7 +160,8 @@ float spot_attenuation(const BounceLight& light, glm::vec3 from_light) {
 }
 
 glm::vec3 light_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, const ShadowRays& rays, Rng& rng) {
-  ShadingContext context{rays.bvh, rays.offset, std::max(rays.samples, 1), rng};
+  ShadingContext context{rays.bvh, rays.counts, rays.offset, std::max(rays.samples, 1), std::max(rays.softness, 0.0f),
+                         rng};
   switch (light.type) {
     case BOUNCE_LIGHT_POINT:
     case BOUNCE_LIGHT_SPOT:

@@ -1,12 +1,9 @@
 #include "cpu/topology_renderer.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <limits>
-#include <mutex>
 #include <unordered_map>
 #include <utility>
 
@@ -29,32 +26,10 @@ constexpr float kPi = 3.14159265358979f;
 constexpr std::chrono::milliseconds kProgressivePublishInterval(250);
 constexpr int kDepthSlices = 16;           // clustered shading's exponential depth slices (Olsson et al. 2012)
 constexpr float kBackgroundDepth = 1e10f;  // Blender's Depth pass value where nothing is hit
-enum Purpose : uint64_t { kDirectLight = 21 };
-
-// ---- The process-wide topology cache ----------------------------------------------------------------------
-
-constexpr std::size_t kCachedTopologies = 2;  // the viewport's and an F12 render's, when their settings differ
-std::mutex cache_mutex;
-std::vector<std::pair<uint64_t, std::shared_ptr<const topology::Topology>>> cache;  // most recent last
-std::atomic<uint64_t> builds{0};
-
-std::shared_ptr<const topology::Topology> cached(uint64_t key) {
-  std::lock_guard lock(cache_mutex);
-  for (auto it = cache.begin(); it != cache.end(); ++it) {
-    if (it->first != key) continue;
-    auto entry = *it;
-    cache.erase(it);
-    cache.push_back(entry);
-    return entry.second;
-  }
-  return nullptr;
-}
-
-void store(uint64_t key, std::shared_ptr<const topology::Topology> value) {
-  std::lock_guard lock(cache_mutex);
-  if (cache.size() >= kCachedTopologies) cache.erase(cache.begin());
-  cache.emplace_back(key, std::move(value));
-}
+enum Purpose : uint64_t { kDirectLight = 21, kVplResampling = 22, kVplSample = 23 };
+constexpr int kCandidatesPerVpl = 8;   // candidate VPLs traced per VPL kept
+constexpr float kUniformShare = 0.1f;  // of the resampling, so no candidate is left out (defensive mixture)
+constexpr int kProbesPerAxis = 8;      // view samples the importance is measured at: a grid of 8 x 8
 
 // ---- View samples -----------------------------------------------------------------------------------------
 
@@ -67,14 +42,28 @@ struct ViewSample {
   bool hit = false;
 };
 
-// Sec. V.C: the cone from VPL p through gate g holds x when the segment p-x crosses the gate's plane inside the
-// disk (Fig. 11).
+namespace shared {
+using glm::dot;
+using glm::vec3;
+#define GATES_INLINE inline
+#include "topology_visibility/gates_shared.glsl"
+#undef GATES_INLINE
+}  // namespace shared
+
 bool in_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 x) {
-  const float side_p = glm::dot(p - gate.centre, gate.normal), side_x = glm::dot(x - gate.centre, gate.normal);
-  if (!(side_p * side_x < 0.0f)) return false;
-  const glm::vec3 crossing = p + (x - p) * (side_p / (side_p - side_x));
-  const glm::vec3 offset = crossing - gate.centre;
-  return glm::dot(offset, offset) <= gate.radius * gate.radius;
+  return shared::in_gate_cone(p, gate.centre, gate.normal, gate.radius, x);
+}
+
+// Whether the method lets a VPL at p in cluster `from` light x in cluster `to`: its own cluster without a test,
+// another only inside the cone through one of its cluster's gates (Fig. 11); a view sample outside every
+// cluster has no visibility information and takes every light.
+bool reaches(const topology::Topology& topo, const std::vector<std::vector<uint32_t>>& gates_of, uint32_t from,
+             glm::vec3 p, uint32_t to, glm::vec3 x) {
+  if (from == kNoNode) return false;
+  if (to == kNoNode || to == from) return true;
+  for (uint32_t gate : gates_of[from])
+    if (in_gate_cone(p, topo.gates[gate], x)) return true;
+  return false;
 }
 
 // Whether a bounding sphere may hold points of that cone: the sphere must reach beyond the gate's plane and
@@ -210,64 +199,54 @@ void draw_topology_pass(const topology::Topology& topo, const BounceSettings& se
 
 }  // namespace
 
-uint64_t topology_builds() { return builds.load(); }
-
-bool TopologyRenderer::prepare_topology(const BounceSettings& settings, const RenderCallbacks& callbacks) {
-  uint64_t key = mix(scene_.geometry_hash() ^ mix(uint64_t(settings.topology_resolution)));
-  uint32_t alpha_bits = 0;
-  std::memcpy(&alpha_bits, &settings.topology_alpha, sizeof alpha_bits);
-  key = mix(key ^ alpha_bits);
-  if (topology_ && key == topology_key_) return true;
-  if (auto found = cached(key)) {
-    topology_ = std::move(found);
-    topology_key_ = key;
-    return true;
-  }
-  topology::Settings topology_settings;
-  topology_settings.resolution = settings.topology_resolution;
-  topology_settings.alpha = settings.topology_alpha;
-  std::string stage_text;
-  try {
-    auto built = std::make_shared<topology::Topology>(
-        topology::build(scene_.soup(), topology_settings, [&](topology::BuildStage stage, float fraction) {
-          stage_text = std::string("Topology: ") + topology::build_stage_name(stage);
-          callbacks.status(stage_text.c_str(), 0.5f * fraction);
-          return !callbacks.cancelled();
-        }));
-    ++builds;
-    topology_ = std::move(built);
-  } catch (const topology::Cancelled&) {
-    return false;
-  }
-  topology_key_ = key;
-  store(key, topology_);
-  return true;
-}
-
-void TopologyRenderer::prepare_vpls(const GpuScene& scene, const BounceSettings& settings, uint32_t seed) {
-  uint64_t key = mix(scene.light_version() ^ mix(topology_key_));
-  for (uint64_t v : {uint64_t(settings.topology_vpls), uint64_t(settings.bounces), uint64_t(seed)})
-    key = mix(key ^ v);
-  if (key == vpl_key_) return;
-  VplOptions options;
-  options.bounces = settings.bounces;
-  options.paths = (settings.topology_vpls + options.bounces - 1) / options.bounces;
-  options.seed = seed;
-  vpls_ = trace_vpls(scene_, scene.lights(), options);
-  vpl_cluster_.resize(vpls_.size());
+uint32_t TopologyRenderer::vpl_cluster(const Vpl& vpl) const {
   // A VPL's cluster must be reachable from it: one inside a block thinner than the lookup's steps (a light
   // inside a wall) would otherwise reach through to the room beyond.
   const float offset = 2e-4f * scene_.radius();
-  parallel_for(vpls_.size(), 0, 64, [&](std::size_t i) {
-    const Vpl& vpl = vpls_[i];
-    const auto reachable = [&](glm::vec3 from, glm::vec3 to) {
-      from += vpl.normal * offset;
-      const float distance = glm::length(to - from);
-      return !(distance > 0.0f) || !scene_.bvh().occluded(from, (to - from) / distance, 0.0f, distance);
-    };
-    vpl_cluster_[i] = topology_->cluster_at(vpl.position, vpl.normal, topology::Topology::Side::Front, reachable);
+  const auto reachable = [&](glm::vec3 from, glm::vec3 to) {
+    from += vpl.normal * offset;
+    const float distance = glm::length(to - from);
+    return !(distance > 0.0f) || !scene_.occluded(from, (to - from) / distance, 0.0f, distance);
+  };
+  return topologies_.latest()->cluster_at(vpl.position, vpl.normal, topology::Topology::Side::Front, reachable);
+}
+
+void TopologyRenderer::prepare_vpls(const GpuScene& scene, const BounceSettings& settings, uint64_t seed,
+                                    std::span<const Probe> probes, const std::vector<std::vector<uint32_t>>& gates_of) {
+  // Candidates: kCandidatesPerVpl times the VPLs wanted, traced from the lights (a sun's over a disk the size of
+  // the scene, so most land where the camera sees nothing: on a roof, outside a window).
+  VplOptions options;
+  options.bounces = std::max(settings.bounces, 1);
+  const int wanted = std::max(settings.topology_vpls, 1);
+  options.paths = (kCandidatesPerVpl * wanted + options.bounces - 1) / options.bounces;
+  options.seed = seed;
+  const std::vector<Vpl> candidates = trace_vpls(scene_, scene.lights(), options);
+  std::vector<uint32_t> candidate_cluster(candidates.size());
+  parallel_for(candidates.size(), 0, 64, [&](std::size_t i) { candidate_cluster[i] = vpl_cluster(candidates[i]); });
+  // Importance: the light a candidate gives the probes under the method's visibility rule, so the VPLs go where
+  // their light reaches what the camera sees (resampled, hence unbiased for the candidates' image in every
+  // visibility mode; the rule is the clusters' in all of them, so the modes compare the same VPLs: Table II).
+  const float clamp = settings.topology_distance_clamp * scene_.radius();
+  std::vector<float> importance(candidates.size(), 0.0f);
+  parallel_for(candidates.size(), 0, 64, [&](std::size_t i) {
+    const Vpl& vpl = candidates[i];
+    double sum = 0.0;
+    for (const Probe& probe : probes) {
+      if (!reaches(*topologies_.latest(), gates_of, candidate_cluster[i], vpl.position, probe.cluster, probe.position))
+        continue;
+      const glm::vec3 light = probe.albedo * vpl_irradiance(vpl, probe.position, probe.normal, clamp);
+      sum += double(light.r + light.g + light.b);
+    }
+    importance[i] = float(sum);
   });
-  vpl_key_ = key;
+  Rng rng(seed, kVplResampling, 0);
+  vpls_.clear();
+  vpl_cluster_.clear();
+  for (const Draw& draw : resample(importance, wanted, kUniformShare, rng.next())) {
+    vpls_.push_back(candidates[draw.index]);
+    vpls_.back().power *= draw.weight;
+    vpl_cluster_.push_back(candidate_cluster[draw.index]);
+  }
 }
 
 bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& settings, const BounceCamera& camera,
@@ -285,13 +264,9 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
   {
     StageScope scope(timer, Stage::TopologyPrecompute);
     scene_.sync(scene);
-    if (!prepare_topology(settings, callbacks)) return false;
+    if (!topologies_.get(scene_, settings, callbacks)) return false;
   }
-  {
-    StageScope scope(timer, Stage::TopologyVpls);
-    prepare_vpls(scene, settings, static_cast<uint32_t>(settings.seed));
-  }
-  const topology::Topology& topo = *topology_;
+  const topology::Topology& topo = *topologies_.latest();
   std::vector<std::vector<uint32_t>> gates_of(topo.cluster_count);
   for (std::size_t g = 0; g < topo.gates.size(); ++g)
     for (uint32_t c : topo.gates[g].clusters)
@@ -302,20 +277,21 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
   const float radius = scene_.radius();
   const float offset = 2e-4f * std::max(radius, 1e-30f);
   const float clamp = settings.topology_distance_clamp * radius;
-  const ShadowRays direct_rays{scene_.bvh(), offset, 1};
+  const ShadowRays direct_rays{scene_.bvh(), offset, 1, scene_.opaque(), settings.shadow_softness};
   const std::vector<BounceLight>& lights = scene.lights();
   const BounceWorld& world = scene.world();
 
   struct Sums {
-    std::vector<glm::vec3> combined, direct, emission, albedo, normal, indirect;
+    std::vector<glm::vec3> combined, direct, emission, albedo, normal, indirect, second;
     std::vector<float> depth;
   } sums;
-  for (auto* v : {&sums.combined, &sums.direct, &sums.emission, &sums.albedo, &sums.normal, &sums.indirect})
+  for (auto* v :
+       {&sums.combined, &sums.direct, &sums.emission, &sums.albedo, &sums.normal, &sums.indirect, &sums.second})
     v->assign(pixels, glm::vec3(0.0f));
   sums.depth.assign(pixels, kBackgroundDepth);
   std::vector<glm::vec4> topology_image(pixels, glm::vec4(0.0f));
   std::vector<ViewSample> view(pixels);
-  std::vector<glm::vec3> direct(pixels), indirect(pixels);
+  std::vector<glm::vec3> direct(pixels), indirect(pixels), second(pixels);
 
   auto make_frame = [&](int samples_done) {
     auto frame = std::make_shared<Frame>();
@@ -339,7 +315,8 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
                               {BOUNCE_AOV_EMISSION, &sums.emission},
                               {BOUNCE_AOV_ALBEDO, &sums.albedo},
                               {BOUNCE_AOV_NORMAL, &sums.normal},
-                              {BOUNCE_AOV_INDIRECT, &sums.indirect}}) {
+                              {BOUNCE_AOV_INDIRECT, &sums.indirect},
+                              {BOUNCE_AOV_SECOND_BOUNCE, &sums.second}}) {
         const glm::vec3 value = (*sum)[i] * scale;
         put(aov, i, glm::value_ptr(value), 3);
       }
@@ -382,7 +359,7 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
           v.origin = glm::vec3(origin);
           v.direction = glm::vec3(dir);
           if (!std::isfinite(v.origin.x) || !std::isfinite(v.direction.x)) continue;
-          const auto hit = scene_.bvh().intersect(v.origin, v.direction, 0.0f, static_cast<float>(tmax));
+          const auto hit = scene_.intersect(v.origin, v.direction, 0.0f, static_cast<float>(tmax));
           if (!hit) continue;
           v.hit = true;
           v.t = hit->t;
@@ -391,6 +368,21 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
           v.cluster = topo.cluster_at(v.surface.position, v.surface.normal, topology::Topology::Side::Front);
         }
       });
+    }
+    {
+      // New VPLs every sample, so the image converges; sample 0 keeps one set for a seed (the viewport's still
+      // frames repeat).
+      StageScope scope(timer, Stage::TopologyVpls);
+      std::vector<Probe> probes;
+      Rng rng(seed, kVplSample, uint64_t(s));
+      for (int py = 0; py < kProbesPerAxis; ++py)
+        for (int px = 0; px < kProbesPerAxis; ++px) {
+          const int column = std::min(width - 1, int((px + rng.next()) * float(width) / kProbesPerAxis));
+          const int row = std::min(height - 1, int((py + rng.next()) * float(height) / kProbesPerAxis));
+          const ViewSample& v = view[std::size_t(row) * std::size_t(width) + std::size_t(column)];
+          if (v.hit) probes.push_back({v.surface.position, v.surface.shading_normal, v.surface.albedo, v.cluster});
+        }
+      prepare_vpls(scene, settings, mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, gates_of);
     }
     {
       StageScope scope(timer, Stage::TopologyDirect);
@@ -462,17 +454,21 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
       parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
         for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {
           const ViewSample& v = view[i];
-          indirect[i] = glm::vec3(0.0f);
+          indirect[i] = second[i] = glm::vec3(0.0f);
           if (!v.hit) continue;
           const glm::vec3 x = v.surface.position, n = v.surface.shading_normal;
-          glm::vec3 irradiance(0.0f);
+          glm::vec3 irradiance(0.0f), second_irradiance(0.0f);  // all bounces; the second alone
+          const auto add = [&](const Vpl& vpl, glm::vec3 e) {
+            irradiance += e;
+            if (vpl.bounce == 2) second_irradiance += e;
+          };
           if (clusters_and_gates) {
             if (group_of[i] == kNoNode) continue;
             uint32_t counted = kNoNode;  // a light listed with several gates lights a sample once
             for (const Assignment& a : assigned[group_of[i]]) {
               if (a.vpl == counted) continue;
               if (a.gate != kNoNode && !in_gate_cone(vpls_[a.vpl].position, topo.gates[a.gate], x)) continue;
-              irradiance += vpl_irradiance(vpls_[a.vpl], x, n, clamp);
+              add(vpls_[a.vpl], vpl_irradiance(vpls_[a.vpl], x, n, clamp));
               counted = a.vpl;
             }
           } else {
@@ -483,13 +479,14 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
               if (shadow_rays) {
                 const glm::vec3 from = x + v.surface.normal * offset, to = vpl.position + vpl.normal * offset;
                 const float distance = glm::length(to - from);
-                if (distance > offset && scene_.bvh().occluded(from, (to - from) / distance, 0.0f, distance - offset))
+                if (distance > offset && scene_.occluded(from, (to - from) / distance, 0.0f, distance - offset))
                   continue;
               }
-              irradiance += e;
+              add(vpl, e);
             }
           }
           indirect[i] = v.surface.albedo / kPi * irradiance;
+          second[i] = v.surface.albedo / kPi * second_irradiance;
         }
       });
     }
@@ -498,6 +495,7 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
       if (!v.hit) continue;
       sums.direct[i] += direct[i];
       sums.indirect[i] += indirect[i];
+      sums.second[i] += second[i];
       sums.emission[i] += v.surface.emission;
       sums.albedo[i] += v.surface.albedo;
       sums.normal[i] += v.surface.shading_normal;

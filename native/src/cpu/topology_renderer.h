@@ -2,17 +2,18 @@
 // view sample its surface and visibility cluster; direct light comes from Bounce's direct-lighting model with
 // shadow rays; VPLs traced from the lights bring the indirect light, each lighting the view samples of its own
 // visibility cluster without a test and those of other clusters only inside the cones through its cluster's
-// gates (Fig. 11), assigned per geometry cluster of clustered shading (Sec. V.B-C). The topology is built on
-// the first render of a scene and cached by a hash of the geometry and the topology settings, in the process,
-// so the viewport, F12 renders and every frame of a batch render share it; camera and light moves reuse it.
+// gates (Fig. 11), assigned per geometry cluster of clustered shading (Sec. V.B-C). The topology comes from
+// TopologyCache: built on the first render of a scene, then shared.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "bounce/bounce.h"
 #include "cpu/cpu_scene.h"
+#include "cpu/topology_cache.h"
 #include "cpu/vpls.h"
 #include "gpu_scene.h"
 #include "render_callbacks.h"
@@ -23,25 +24,27 @@ namespace bounce::cpu {
 
 class TopologyRenderer {
  public:
+  explicit TopologyRenderer(CpuScene& scene) : scene_(scene) {}
   // Renders settings.samples progressive samples of the whole crop (no tiles: nothing is on the GPU). Returns
   // false when cancelled, the precomputation included.
   bool render(const GpuScene& scene, const BounceSettings& settings, const BounceCamera& camera,
               const RenderCallbacks& callbacks, StageTimer& timer);
-  std::shared_ptr<const topology::Topology> topology() const { return topology_; }
+  std::shared_ptr<const topology::Topology> topology() const { return topologies_.latest(); }
 
  private:
-  bool prepare_topology(const BounceSettings& settings, const RenderCallbacks& callbacks);
-  void prepare_vpls(const GpuScene& scene, const BounceSettings& settings, uint32_t seed);
+  // A view sample the VPLs' importance is measured at.
+  struct Probe {
+    glm::vec3 position, normal, albedo;
+    uint32_t cluster;
+  };
+  void prepare_vpls(const GpuScene& scene, const BounceSettings& settings, uint64_t seed, std::span<const Probe> probes,
+                    const std::vector<std::vector<uint32_t>>& gates_of);
+  uint32_t vpl_cluster(const Vpl& vpl) const;
 
-  CpuScene scene_;
-  std::shared_ptr<const topology::Topology> topology_;
-  uint64_t topology_key_ = 0;
+  CpuScene& scene_;  // the renderer's, shared with the ray-traced direct light
+  TopologyCache topologies_;
   std::vector<Vpl> vpls_;
   std::vector<uint32_t> vpl_cluster_;  // per VPL; topology::kNoNode when walled in or outside the grid
-  uint64_t vpl_key_ = 0;
 };
-
-// How many topologies the process-wide cache behind TopologyRenderer has built (bounce_topology_info).
-uint64_t topology_builds();
 
 }  // namespace bounce::cpu

@@ -124,7 +124,7 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
       if (!(weight(power) > 0.0f) || !std::isfinite(weight(power))) break;
       // The origin is already off its surface: a near limit as well would skip an adjoining face within it (the
       // floor of a box seen from next to a corner) and let paths out of closed volumes.
-      const auto hit = scene.bvh().intersect(ray.origin, ray.direction, 0.0f, std::numeric_limits<float>::infinity());
+      const auto hit = scene.intersect(ray.origin, ray.direction, 0.0f, std::numeric_limits<float>::infinity());
       if (!hit) break;
       const Surface s = scene.surface(*hit, ray.direction);
       power *= s.albedo;
@@ -138,6 +138,28 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
   std::vector<Vpl> vpls;
   for (const auto& path : per_path) vpls.insert(vpls.end(), path.begin(), path.end());
   return vpls;
+}
+
+std::vector<Draw> resample(std::span<const float> importance, int count, float uniform_share, float u) {
+  const std::size_t m = importance.size();
+  if (m == 0 || count <= 0) return {};
+  const auto valid = [&](std::size_t i) { return std::isfinite(importance[i]) ? std::max(importance[i], 0.0f) : 0.0f; };
+  double total = 0.0;
+  for (std::size_t i = 0; i < m; ++i) total += valid(i);
+  const double share = total > 0.0 ? std::clamp(double(uniform_share), 0.0, 1.0) : 1.0;
+  const auto probability = [&](std::size_t i) {
+    return (1.0 - share) * (total > 0.0 ? valid(i) / total : 0.0) + share / double(m);
+  };
+  std::vector<Draw> draws;
+  draws.reserve(std::size_t(count));
+  double cumulative = 0.0;
+  std::size_t i = 0;
+  for (int next = 0; next < count; ++next) {
+    // The last candidate takes what rounding leaves of the cumulative sum short of `count`.
+    while (i + 1 < m && cumulative + probability(i) * count <= next + u) cumulative += probability(i++) * count;
+    draws.push_back({i, float(1.0 / (double(count) * probability(i)))});
+  }
+  return draws;
 }
 
 glm::vec3 vpl_irradiance(const Vpl& vpl, glm::vec3 x, glm::vec3 n, float clamp) {

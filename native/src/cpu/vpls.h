@@ -31,6 +31,17 @@ struct VplOptions {
 // surface ends early. Deterministic for a seed, whatever the threads.
 std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> lights, const VplOptions& options);
 
+// Resampled importance sampling (Talbot et al. 2005): `count` draws among candidates with probabilities p_i
+// proportional to `importance` mixed with a uniform share (defensive, so no candidate has p_i = 0). A draw is
+// (candidate index, 1 / (count p_i)): scaling each drawn VPL's power by it makes the image of the drawn VPLs an
+// unbiased estimate of the candidates' image, whatever the importance, while most draws go where the importance
+// says light matters. Systematic: one random offset `u` in [0, 1) for all draws.
+struct Draw {
+  std::size_t index;
+  float weight;
+};
+std::vector<Draw> resample(std::span<const float> importance, int count, float uniform_share, float u);
+
 // The radiant power a light emits (W per channel), as the renderer lights with it: a sun's through the disk
 // of radius `scene_radius` facing it.
 glm::vec3 light_power(const BounceLight& light, float scene_radius);

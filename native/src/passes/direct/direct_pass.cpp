@@ -40,15 +40,9 @@ void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, S
   }
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, zero);
-  const auto& lights = context.scene.lights();
-  shadows.trim(lights.size());
-  for (std::size_t i = 0; i < lights.size(); ++i) {
-    LightBlock block = make_light_block(lights[i]);
-    shadows.prepare(context, i, lights[i], block);
+  for_each_shadowed_light(context, shadows, [&] {
     {
       StageScope scope(context.timer, Stage::Direct);
-      glNamedBufferSubData(light_buffer_.id(), 0, sizeof block, &block);
-      glBindBufferBase(GL_UNIFORM_BUFFER, binding::kLightBlock, light_buffer_.id());
       glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
       glViewport(0, 0, context.width, context.height);
       gbuffer.bind_for_reading();
@@ -60,6 +54,19 @@ void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, S
       glDisable(GL_BLEND);
     }
     if (after_light) after_light();
+  });
+}
+
+void DirectPass::for_each_shadowed_light(const RenderContext& context, ShadowPass& shadows,
+                                         const std::function<void()>& use) {
+  const auto& lights = context.scene.lights();
+  shadows.trim(lights.size());
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    LightBlock block = make_light_block(lights[i]);
+    shadows.prepare(context, i, lights[i], block);
+    glNamedBufferSubData(light_buffer_.id(), 0, sizeof block, &block);
+    glBindBufferBase(GL_UNIFORM_BUFFER, binding::kLightBlock, light_buffer_.id());
+    use();
   }
 }
 

@@ -22,6 +22,9 @@ class DirectPass {
   // other passes can use them (Forward Light Cuts lights its VPLs there).
   void execute(const RenderContext& context, const GBuffer& gbuffer, ShadowPass& shadows,
                const std::function<void()>& after_light = {});
+  // Each light's shadow map and LightBlock bound in turn for `use`, without drawing the direct light (when
+  // TracedDirectPass lights the pixels, Forward Light Cuts still lights its VPLs by shadow maps).
+  void for_each_shadowed_light(const RenderContext& context, ShadowPass& shadows, const std::function<void()>& use);
   GLuint output() const { return direct_.id(); }  // RGBA32F
 
  private:

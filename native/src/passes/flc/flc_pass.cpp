@@ -193,9 +193,12 @@ void FlcPass::resize(int width, int height, const FlcParams& params) {
   gl::check("allocating the Forward Light Cuts targets");
 }
 
-void FlcPass::shade(const RenderContext& context, const GBuffer& gbuffer) {
+void FlcPass::shade(const RenderContext& context, const GBuffer& gbuffer, const TopologyVisibilityPass* visibility) {
   if (vpl_count_ == 0) return;
   resize(context.width, context.height, params_);
+  params_.visibility = visibility != nullptr;
+  glNamedBufferSubData(params_buffer_.id(), 0, sizeof params_, &params_);
+  if (visibility) visibility->bind();
   if (levels_depth_ != gbuffer.depth.id()) {
     levels_target_ = gl::make_framebuffer({levels_.id()}, gbuffer.depth.id());
     levels_depth_ = gbuffer.depth.id();

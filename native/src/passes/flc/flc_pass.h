@@ -5,7 +5,10 @@
 //                glDrawArraysIndirect (Sec. 6, Alg. 2). VPLs go to a buffer.
 //   add_light  - per light, with its shadow map bound: the direct irradiance E(t_i) at every VPL (Eq. 6).
 //   shade      - splatting of every VPL's support (Eq. 5, 10, 14, 16) into 4^L interleaved sub-images, then
-//                untiling and a depth- and normal-aware blur; plus the VPL-levels debug view (Fig. 3).
+//                untiling and a depth- and normal-aware blur; plus the VPL-levels debug view (Fig. 3). With
+//                Indirect Shadows, a VPL's splat lights a pixel only where the topology of the empty space lets
+//                it (same visibility cluster, or through a gate of its cluster: Noel and Biri 2014, Fig. 11):
+//                the paper has no indirect visibility, so light went through walls.
 // The paper generates and splats in one geometry shader with one light. Keeping the VPLs in a buffer between
 // the stages lets any number of lights (each with its own shadow map) light the same VPLs, and counts them.
 #pragma once
@@ -16,6 +19,7 @@
 #include "passes/blur/geometry_blur.h"
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/render_context.h"
+#include "passes/topology_visibility/topology_visibility_pass.h"
 
 namespace bounce {
 
@@ -28,6 +32,7 @@ struct FlcParams {
   int32_t image_width, image_height, tile_width, tile_height;
   float scene_radius;
   float d0;
+  int32_t visibility;  // 1: the topology's clusters and gates shadow the VPLs (TopologyVisibilityPass bound)
 };
 
 // The pass's parameters for one sample: Eq. 1 (S_0 from N_avg and D_near), Eq. 17-18, the interleaving.
@@ -39,7 +44,8 @@ class FlcPass {
   FlcPass();
   void generate(const RenderContext& context);
   void add_light(const RenderContext& context);
-  void shade(const RenderContext& context, const GBuffer& gbuffer);
+  // With `visibility` (Indirect Shadows), each VPL lights only what the topology's clusters and gates let it.
+  void shade(const RenderContext& context, const GBuffer& gbuffer, const TopologyVisibilityPass* visibility);
 
   bool active() const { return vpl_count_ > 0; }
   GLuint indirect() const { return resolved_; }  // RGBA32F, the tile's size

@@ -1,0 +1,34 @@
+// The topology of the scene's empty space (native/topology), built once per geometry and topology settings and
+// kept in a process-wide cache: the viewport, F12 renders and every frame of a batch render share it, and camera
+// and light moves reuse it. The Topology method renders with it; Forward Light Cuts borrows it for indirect
+// shadows.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "bounce/bounce.h"
+#include "cpu/cpu_scene.h"
+#include "render_callbacks.h"
+#include "topology/topology.h"
+
+namespace bounce::cpu {
+
+class TopologyCache {
+ public:
+  // The topology of `scene` (synced) for settings.topology_resolution and topology_alpha: this object's own when
+  // still valid, else the process-wide cache's, else built, with its stages reported through callbacks.status
+  // over the first half of the progress bar. nullptr when cancelled.
+  std::shared_ptr<const topology::Topology> get(const CpuScene& scene, const BounceSettings& settings,
+                                                const RenderCallbacks& callbacks);
+  const std::shared_ptr<const topology::Topology>& latest() const { return topology_; }  // the last get()'s
+
+ private:
+  std::shared_ptr<const topology::Topology> topology_;
+  uint64_t key_ = 0;
+};
+
+// How many topologies the process-wide cache has built (bounce_topology_info).
+uint64_t topology_builds();
+
+}  // namespace bounce::cpu

@@ -1,0 +1,104 @@
+#include "passes/topology_visibility/topology_visibility_pass.h"
+
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "error.h"
+#include "gl/shader.h"
+
+namespace bounce {
+namespace {
+
+constexpr GLuint kGridBlock = 6;
+constexpr GLuint kGatesBinding = 10;
+constexpr GLuint kClusterGatesBinding = 11;
+constexpr GLuint kClustersUnit = 20;
+
+struct GridBlock {  // std140 mirror of visibility.glsl's TopologyGrid
+  glm::vec4 origin_voxel;
+  glm::ivec4 dims;
+};
+struct GpuGate {
+  glm::vec4 centre_radius, normal;
+};
+
+}  // namespace
+
+TopologyVisibilityPass::TopologyVisibilityPass()
+    : program_(gl::build_program({{GL_VERTEX_SHADER, "common/fullscreen.vert"},
+                                  {GL_FRAGMENT_SHADER, "topology_visibility/pixel_clusters.frag"}})),
+      grid_(gl::make_buffer(sizeof(GridBlock), nullptr)) {}
+
+void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topology>& topology) {
+  if (topology == topology_) return;
+  topology_ = topology;
+  const topology::GridShape& shape = topology->grid.shape;
+  const glm::ivec3 padded = shape.padded();
+  // Padded cells, x fastest: the layout of the topology's arrays and of a 3-D texture alike.
+  std::vector<uint32_t> clusters(shape.padded_count(), topology::kNoNode);
+  for (std::size_t i = 0; i < clusters.size(); ++i)
+    if (i < topology->skeleton.voxel_node.size())
+      clusters[i] = topology->cluster_of_node(topology->skeleton.voxel_node[i]);
+  GLuint texture = 0;
+  glCreateTextures(GL_TEXTURE_3D, 1, &texture);
+  clusters_ = gl::Texture(texture);
+  glTextureStorage3D(texture, 1, GL_R32UI, padded.x, padded.y, padded.z);
+  glTextureSubImage3D(texture, 0, 0, 0, 0, padded.x, padded.y, padded.z, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                      clusters.data());
+  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+
+  const glm::dvec3 corner = shape.origin - shape.voxel_size;  // padded cell (0, 0, 0)
+  const GridBlock grid{glm::vec4(glm::vec3(corner), float(shape.voxel_size)),
+                       glm::ivec4(padded, int(topology->cluster_count))};
+  glNamedBufferSubData(grid_.id(), 0, sizeof grid, &grid);
+
+  std::vector<GpuGate> gates;
+  for (const topology::Gate& gate : topology->gates)
+    gates.push_back({glm::vec4(gate.centre, gate.radius), glm::vec4(gate.normal, 0.0f)});
+  // Two words per cluster (first index, count), then the gate indices of each cluster in turn.
+  std::vector<std::vector<uint32_t>> of_cluster(topology->cluster_count);
+  for (std::size_t g = 0; g < topology->gates.size(); ++g)
+    for (uint32_t c : topology->gates[g].clusters)
+      if (c < topology->cluster_count) of_cluster[c].push_back(uint32_t(g));
+  std::vector<uint32_t> table(2 * of_cluster.size());
+  for (std::size_t c = 0; c < of_cluster.size(); ++c) {
+    table[2 * c] = uint32_t(table.size());
+    table[2 * c + 1] = uint32_t(of_cluster[c].size());
+    table.insert(table.end(), of_cluster[c].begin(), of_cluster[c].end());
+  }
+  // GL buffers may not be empty.
+  if (gates.empty()) gates.push_back({});
+  if (table.empty()) table.push_back(0);
+  gates_ = gl::make_buffer(gates.size() * sizeof(GpuGate), gates.data());
+  cluster_gates_ = gl::make_buffer(table.size() * sizeof(uint32_t), table.data());
+  gl::check("uploading the topology's visibility");
+}
+
+void TopologyVisibilityPass::execute(const RenderContext& context, const GBuffer& gbuffer) {
+  StageScope scope(context.timer, Stage::TopologyVisibility);
+  if (width_ != context.width || height_ != context.height) {
+    pixel_clusters_ = gl::make_texture_2d(GL_R32UI, context.width, context.height);
+    target_ = gl::make_framebuffer({pixel_clusters_.id()}, 0);
+    width_ = context.width;
+    height_ = context.height;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
+  glViewport(0, 0, width_, height_);
+  gbuffer.bind_for_reading();
+  bind();
+  glUseProgram(program_.id());
+  draw_fullscreen_triangle();
+  gl::check("finding the pixels' visibility clusters");
+}
+
+void TopologyVisibilityPass::bind() const {
+  glBindBufferBase(GL_UNIFORM_BUFFER, kGridBlock, grid_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGatesBinding, gates_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kClusterGatesBinding, cluster_gates_.id());
+  glBindTextureUnit(kClustersUnit, clusters_.id());
+  glBindTextureUnit(kPixelClustersUnit, pixel_clusters_.id());
+}
+
+}  // namespace bounce

@@ -1,0 +1,17 @@
+// The visibility gate test of the topology method, shared by the shaders (shaders/topology_visibility/) and the
+// CPU renderer (native/src/cpu/topology_renderer.cpp includes this file into C++ with GLM). Written in the common
+// subset of GLSL and C++; GATES_INLINE is `inline` in C++.
+#ifndef GATES_INLINE
+#define GATES_INLINE
+#endif
+
+// Noel and Biri 2014, Sec. V.C, Fig. 11: the cone from a light at p through a gate (a disk: centre, unit normal,
+// radius) holds x when the segment p-x crosses the gate's plane inside the disk.
+GATES_INLINE bool in_gate_cone(vec3 p, vec3 centre, vec3 normal, float radius, vec3 x) {
+  float side_p = dot(p - centre, normal);
+  float side_x = dot(x - centre, normal);
+  if (!(side_p * side_x < 0.0f)) return false;
+  vec3 crossing = p + (x - p) * (side_p / (side_p - side_x));
+  vec3 offset = crossing - centre;
+  return dot(offset, offset) <= radius * radius;
+}

@@ -1,0 +1,73 @@
+// Indirect visibility from the topology of the empty space (Noel and Biri 2014) on the GPU: the voxels' visibility
+// clusters as a 3-D texture, the gates of each cluster as buffers (native/src/passes/topology_visibility/). A
+// light at p in cluster A reaches x in cluster B when A == B, or when the segment p-x crosses one of A's gates
+// inside its disk (Fig. 11). Mirrors cpu::TopologyRenderer's rule.
+#include "topology_visibility/gates_shared.glsl"
+
+const uint TOPOLOGY_NO_CLUSTER = 0xFFFFFFFFu;
+
+// Per padded grid cell: the visibility cluster of its nearest skeleton node, TOPOLOGY_NO_CLUSTER on solid cells
+// and the padding.
+layout(binding = 20) uniform usampler3D topology_clusters;
+
+layout(std140, binding = 6) uniform TopologyGrid {
+  vec4 origin_voxel;  // xyz the corner of padded cell (0, 0, 0), w the voxel size
+  ivec4 dims;         // xyz padded cells per axis, w the cluster count (0: no topology)
+} topology_grid;
+
+struct TopologyGate {
+  vec4 centre_radius;
+  vec4 normal;
+};
+layout(std430, binding = 10) readonly buffer TopologyGates { TopologyGate topology_gates[]; };
+// [2 c], [2 c + 1]: the first index and the count of cluster c's gates in the rest of the array.
+layout(std430, binding = 11) readonly buffer TopologyClusterGates { uint topology_cluster_gates[]; };
+
+uint topology_cluster_in(ivec3 cell) {
+  if (any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, topology_grid.dims.xyz))) return TOPOLOGY_NO_CLUSTER;
+  return texelFetch(topology_clusters, cell, 0).r;
+}
+
+ivec3 topology_cell(vec3 p) {
+  return ivec3(floor((p - topology_grid.origin_voxel.xyz) / topology_grid.origin_voxel.w));
+}
+
+// The cluster of a surface point p on the side of its unit normal n (Topology::cluster_at, Side::Front): the
+// first empty voxel from p along n within two voxels, else p's own voxel, else its nearest empty neighbour on
+// n's side. TOPOLOGY_NO_CLUSTER outside the grid or walled in.
+uint topology_cluster_at(vec3 p, vec3 n) {
+  float voxel = topology_grid.origin_voxel.w;
+  for (float step = 0.5; step <= 2.0; step += 0.5) {
+    uint cluster = topology_cluster_in(topology_cell(p + step * voxel * n));
+    if (cluster != TOPOLOGY_NO_CLUSTER) return cluster;
+  }
+  ivec3 cell = topology_cell(p);
+  uint nearest = topology_cluster_in(cell);
+  if (nearest != TOPOLOGY_NO_CLUSTER) return nearest;
+  float best = 1e30;
+  vec3 centre = topology_grid.origin_voxel.xyz + (vec3(cell) + 0.5) * voxel;
+  for (int i = 0; i < 27; ++i) {
+    ivec3 o = ivec3(i % 3, (i / 3) % 3, i / 9) - 1;
+    if (o == ivec3(0) || dot(vec3(o), n) <= 0.0) continue;
+    uint cluster = topology_cluster_in(cell + o);
+    float d = distance(centre + vec3(o) * voxel, p);
+    if (cluster != TOPOLOGY_NO_CLUSTER && d < best) {
+      nearest = cluster;
+      best = d;
+    }
+  }
+  return nearest;
+}
+
+// Whether a light at p in cluster `from` lights x in cluster `to`, as on the CPU: a light without a cluster is
+// walled in and lights nothing; a receiver without one has no visibility information and takes every light.
+bool topology_reaches(uint from, vec3 p, uint to, vec3 x) {
+  if (from == TOPOLOGY_NO_CLUSTER) return false;
+  if (to == TOPOLOGY_NO_CLUSTER || from == to) return true;
+  uint first = topology_cluster_gates[2u * from], count = topology_cluster_gates[2u * from + 1u];
+  for (uint i = first; i < first + count; ++i) {
+    TopologyGate gate = topology_gates[topology_cluster_gates[i]];
+    if (in_gate_cone(p, gate.centre_radius.xyz, gate.normal.xyz, gate.centre_radius.w, x)) return true;
+  }
+  return false;
+}

@@ -427,5 +427,43 @@ TEST_F(Ssvp, SameSeedSameImage) {
   EXPECT_EQ(a.values, b.values);
 }
 
+// The second bounce against ray-traced VPLs (the Topology renderer with shadow rays: exact indirect visibility)
+// on a courtyard half under a roof, lit by a high sun, with one cluster mixing the sunlit roof top and the sunlit
+// floor. A cluster that acted as one light at its centre (in mid-air between roof and floor) sent the roof's
+// light into the roof's own underside and from there onto the shaded floor: 2.8x the rays' second bounce here.
+TEST_F(Ssvp, SecondBounceMatchesRayTracedVpls) {
+  add_mesh(1, {-5, -5, 0, 5, -5, 0, 5, 5, 0, -5, 5, 0}, {0, 1, 2, 0, 2, 3});    // floor
+  add_mesh(2, {-5, -5, 3, -1, -5, 3, -1, 5, 3, -5, 5, 3}, {0, 1, 2, 0, 2, 3});  // roof
+  set_instances({1, 2}, {glm::mat4(1.0f), glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(5.0f));
+  const glm::vec3 towards = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f));
+  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards)), y = glm::cross(towards, x);
+  std::memcpy(sun.axis_z, &towards[0], 12);
+  std::memcpy(sun.axis_x, &x[0], 12);
+  std::memcpy(sun.axis_y, &y[0], 12);
+  set_lights({sun});
+  set_camera(glm::lookAt(glm::vec3(-3, -9, 1.5f), glm::vec3(-3, 0, 1.2f), glm::vec3(0, 0, 1)),
+             glm::perspective(glm::radians(50.0f), 1.0f, 0.05f, 100.0f), 32, 32);
+  settings_.samples = 16;
+  settings_.bounces = 2;
+  settings_.method = BOUNCE_METHOD_TOPOLOGY;
+  settings_.topology_visibility = 1;  // shadow rays
+  settings_.topology_vpls = 8192;
+  settings_.topology_resolution = 64;
+  render(BOUNCE_AOV_INDIRECT);
+  const double rays = mean_red(read(BOUNCE_AOV_SECOND_BOUNCE));
+  settings_.method = BOUNCE_METHOD_SSVP;
+  settings_.ssvp_vpls = 1024;
+  settings_.ssvp_second_vpls = 4096;
+  settings_.ssvp_clusters = 1;
+  render(BOUNCE_AOV_INDIRECT);
+  const double ssvp_second = mean_red(read(BOUNCE_AOV_SECOND_BOUNCE));
+  std::printf("courtyard second bounce: SSVP %.5f, ray-traced VPLs %.5f (ratio %.3f)\n", ssvp_second, rays,
+              ssvp_second / rays);
+  ASSERT_GT(rays, 0.0);
+  EXPECT_NEAR(ssvp_second / rays, 1.0, 0.3);
+}
+
 }  // namespace
 }  // namespace bounce::test

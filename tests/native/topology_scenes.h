@@ -71,6 +71,20 @@ inline Soup two_closed_rooms() {
   return s;
 }
 
+// A closed 6 x 4 x 3 room with a window 2 wide and 1.2 high in its wall y = 0, on a 40 x 40 ground: a sun outside
+// shines in through the window, and most of what is inside is lit indirectly.
+inline constexpr glm::vec3 kWindowLo{2.0f, 0.0f, 1.0f}, kWindowHi{4.0f, 0.0f, 2.2f};
+inline Soup room_with_window() {
+  Soup s;
+  s.quad({-20, -20, 0}, {20, 20, 0}, 2);  // the ground, the room's floor included
+  s.quad({0, 0, 3}, {6, 4, 3}, 2);        // ceiling
+  s.quad({0, 0, 0}, {0, 4, 3}, 0);
+  s.quad({6, 0, 0}, {6, 4, 3}, 0);
+  s.quad({0, 4, 0}, {6, 4, 3}, 1);
+  s.wall_with_opening(1, 0.0f, {0, 0, 0}, {6, 0, 3}, kWindowLo, kWindowHi);
+  return s;
+}
+
 // A square ring corridor: a closed 12 x 12 x 3 hall with a closed 6 x 6 block in its middle.
 inline Soup ring_corridor() {
   Soup s;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <set>
 #include <utility>
@@ -11,6 +12,12 @@
 namespace bounce::topology {
 
 namespace {
+
+// A unit vector orthogonal to the unit vector n.
+glm::vec3 perpendicular(glm::vec3 n) {
+  return glm::normalize(
+      glm::cross(n, std::abs(n.x) < 0.9f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 1.0f, 0.0f)));
+}
 
 // Distance from p to the straight line through a and b (to a itself when they coincide).
 float distance_to_line(glm::vec3 p, glm::vec3 a, glm::vec3 b) {
@@ -297,11 +304,78 @@ std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkel
     gate.centre = skeleton.position[path[neck]];
     gate.normal = glm::normalize(along);
     gate.radius = skeleton.radius[path[neck]];
+    gate.axis_u = perpendicular(gate.normal);
+    gate.half_u = gate.half_v = gate.radius;
     gate.clusters = {cluster_of[a], cluster_of[b]};
     gate.nodes = {a, b};
     gates.push_back(gate);
   }
   return gates;
+}
+
+void fit_gates_to_boundaries(const GridShape& shape, const std::vector<uint32_t>& voxel_cluster,
+                             std::vector<Gate>& gates) {
+  constexpr double kPlaneTolerance = 1.0;  // voxels
+  if (gates.empty() || voxel_cluster.size() != shape.padded_count()) return;
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<std::size_t>> gates_of_pair;
+  for (std::size_t g = 0; g < gates.size(); ++g)
+    gates_of_pair[std::minmax(gates[g].clusters[0], gates[g].clusters[1])].push_back(g);
+  // The faces between two clusters' empty voxels, at their centres, each with the nearest gate of its pair.
+  std::vector<std::vector<glm::dvec3>> faces(gates.size());
+  const glm::ivec3 padded = shape.padded();
+  const std::ptrdiff_t strides[3] = {1, padded.x, std::ptrdiff_t(padded.x) * padded.y};
+  for (std::size_t i = 0; i < voxel_cluster.size(); ++i) {
+    const uint32_t a = voxel_cluster[i];
+    if (a == kNoNode) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::size_t j = i + std::size_t(strides[axis]);  // the padding is solid: never past the end here
+      if (j >= voxel_cluster.size()) continue;
+      const uint32_t b = voxel_cluster[j];
+      if (b == kNoNode || b == a) continue;
+      const auto found = gates_of_pair.find(std::minmax(a, b));
+      if (found == gates_of_pair.end()) continue;
+      const glm::dvec3 face = 0.5 * (shape.centre(shape.voxel_of_index(i)) + shape.centre(shape.voxel_of_index(j)));
+      std::size_t nearest = found->second.front();
+      for (std::size_t g : found->second)
+        if (glm::distance(face, glm::dvec3(gates[g].centre)) < glm::distance(face, glm::dvec3(gates[nearest].centre)))
+          nearest = g;
+      // Only the faces in the gate's plane: past a doorway's neck the boundary between the clusters' voxels
+      // can run along the wall for a few voxels (a voxel takes its nearest node's cluster), and those faces are
+      // no opening.
+      const Gate& gate = gates[nearest];
+      if (std::abs(glm::dot(face - glm::dvec3(gate.centre), glm::dvec3(gate.normal))) <=
+          kPlaneTolerance * shape.voxel_size)
+        faces[nearest].push_back(face);
+    }
+  }
+  for (std::size_t g = 0; g < gates.size(); ++g) {
+    if (faces[g].empty()) continue;
+    Gate& gate = gates[g];
+    const glm::dvec3 n(gate.normal);
+    glm::dvec3 mean(0.0);
+    for (const glm::dvec3& f : faces[g]) mean += f;
+    mean /= double(faces[g].size());
+    // The faces' spread in the gate's plane: its main axis is the rectangle's first axis.
+    const glm::dvec3 t(perpendicular(gate.normal)), b = glm::cross(n, t);
+    double xx = 0.0, xy = 0.0, yy = 0.0;
+    for (const glm::dvec3& f : faces[g]) {
+      const double x = glm::dot(f - mean, t), y = glm::dot(f - mean, b);
+      xx += x * x, xy += x * y, yy += y * y;
+    }
+    const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
+    const glm::dvec3 u = std::cos(angle) * t + std::sin(angle) * b, v = glm::cross(n, u);
+    double half_u = 0.0, half_v = 0.0;
+    for (const glm::dvec3& f : faces[g]) {
+      half_u = std::max(half_u, std::abs(glm::dot(f - mean, u)));
+      half_v = std::max(half_v, std::abs(glm::dot(f - mean, v)));
+    }
+    // A face stands for a voxel's side: the rectangle reaches half a voxel beyond the outermost faces' centres.
+    gate.centre = glm::vec3(mean);
+    gate.axis_u = glm::vec3(u);
+    gate.half_u = float(half_u + 0.5 * shape.voxel_size);
+    gate.half_v = float(half_v + 0.5 * shape.voxel_size);
+    gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
+  }
 }
 
 }  // namespace bounce::topology

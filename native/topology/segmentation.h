@@ -48,15 +48,18 @@ SegmentedSkeleton segment(const Skeleton& skeleton, float alpha);
 std::vector<uint32_t> visibility_clusters(const Skeleton& skeleton, const SegmentedSkeleton& segmented, float alpha,
                                           uint32_t* count = nullptr);
 
-// Sec. IV.C: a disk on each segmented edge whose ends lie in different clusters. Departure: the paper puts it at
-// the middle of the edge, radius the smaller of the two maximal balls; here it sits at the neck of the edge's
-// skeleton path (its node of smallest maximal ball), orthogonal to the path there, with that ball's radius
-// (never larger than the paper's). When a doorway node ends the edge, the middle lies in the next room and
-// the paper's disk covers a wall; the neck is the doorway.
+// Sec. IV.C: a gate on each segmented edge whose ends lie in different clusters. Departure: the paper puts a disk
+// at the middle of the edge, radius the smaller of the two maximal balls; here it sits at the neck of the edge's
+// skeleton path (its node of smallest maximal ball), orthogonal to the path there. When a doorway node ends the
+// edge, the middle lies in the next room and the paper's disk covers a wall; the neck is the doorway. Then
+// fit_gates_to_boundaries makes it a rectangle covering the whole opening between the clusters (a ball at the
+// neck covers a circle inside a 2 x 3 m doorway, or a fraction of a room's section where a room is split in two).
 struct Gate {
   glm::vec3 centre{0.0f};
   glm::vec3 normal{0.0f, 0.0f, 1.0f};  // from clusters[0]'s side to clusters[1]'s
-  float radius = 0.0f;
+  glm::vec3 axis_u{1.0f, 0.0f, 0.0f};  // in the gate's plane; the other axis is cross(normal, axis_u)
+  float half_u = 0.0f, half_v = 0.0f;  // the rectangle's half extents along axis_u and the other axis
+  float radius = 0.0f;                 // of the circle around the rectangle
   std::array<uint32_t, 2> clusters{};
   std::array<uint32_t, 2> nodes{};  // segmented nodes at the edge's ends
 };
@@ -69,5 +72,12 @@ std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkel
 // doorway's neck took the first room's cluster, and so did a slab of the second room along the wall.
 std::vector<uint32_t> node_clusters(const Skeleton& skeleton, const SegmentedSkeleton& segmented,
                                     const std::vector<uint32_t>& cluster_of);
+
+// Each gate becomes the rectangle, in its plane, around the faces between empty voxels of its two clusters (each
+// face going to the nearest gate of that pair of clusters), so that light from one cluster reaches the other
+// through the whole opening. voxel_cluster: per padded cell, kNoNode on solid cells. A gate with no such face
+// keeps a square around its disk.
+void fit_gates_to_boundaries(const GridShape& shape, const std::vector<uint32_t>& voxel_cluster,
+                             std::vector<Gate>& gates);
 
 }  // namespace bounce::topology

@@ -5,13 +5,15 @@
 #define GATES_INLINE
 #endif
 
-// Noel and Biri 2014, Sec. V.C, Fig. 11: the cone from a light at p through a gate (a disk: centre, unit normal,
-// radius) holds x when the segment p-x crosses the gate's plane inside the disk.
-GATES_INLINE bool in_gate_cone(vec3 p, vec3 centre, vec3 normal, float radius, vec3 x) {
+// Noel and Biri 2014, Sec. V.C, Fig. 11: the cone from a light at p through a gate holds x when the segment p-x
+// crosses the gate's plane inside the gate. A gate here is the rectangle around the opening between its clusters
+// (native/topology/segmentation.h, fit_gates_to_boundaries): centre, unit normal, unit axis u in its plane, and
+// half extents along u and along cross(normal, u).
+GATES_INLINE bool in_gate_cone(vec3 p, vec3 centre, vec3 normal, vec3 u, float half_u, float half_v, vec3 x) {
   float side_p = dot(p - centre, normal);
   float side_x = dot(x - centre, normal);
   if (!(side_p * side_x < 0.0f)) return false;
   vec3 crossing = p + (x - p) * (side_p / (side_p - side_x));
   vec3 offset = crossing - centre;
-  return dot(offset, offset) <= radius * radius;
+  return abs(dot(offset, u)) <= half_u && abs(dot(offset, cross(normal, u))) <= half_v;
 }

@@ -16,8 +16,9 @@ layout(std140, binding = 6) uniform TopologyGrid {
 } topology_grid;
 
 struct TopologyGate {
-  vec4 centre_radius;
-  vec4 normal;
+  vec4 centre_half_u;  // centre, half extent along u
+  vec4 normal_half_v;  // normal, half extent along cross(normal, u)
+  vec4 axis_u;
 };
 layout(std430, binding = 10) readonly buffer TopologyGates { TopologyGate topology_gates[]; };
 // [2 c], [2 c + 1]: the first index and the count of cluster c's gates in the rest of the array.
@@ -67,7 +68,9 @@ bool topology_reaches(uint from, vec3 p, uint to, vec3 x) {
   uint first = topology_cluster_gates[2u * from], count = topology_cluster_gates[2u * from + 1u];
   for (uint i = first; i < first + count; ++i) {
     TopologyGate gate = topology_gates[topology_cluster_gates[i]];
-    if (in_gate_cone(p, gate.centre_radius.xyz, gate.normal.xyz, gate.centre_radius.w, x)) return true;
+    if (in_gate_cone(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, gate.axis_u.xyz, gate.centre_half_u.w,
+                     gate.normal_half_v.w, x))
+      return true;
   }
   return false;
 }

@@ -60,6 +60,8 @@ TEST_F(TopologyRender, TwoRoomsBeatNoVisibilityAgainstShadowRays) {
                mse_clusters = mse(clusters, reference);
   std::printf("two rooms MSE: direct %.5g, no visibility %.5g, clusters and gates %.5g\n", mse_direct, mse_none,
               mse_clusters);
+  std::printf("two rooms mean Combined: shadow rays %.5g, no visibility %.5g, clusters and gates %.5g (direct %.5g)\n",
+              mean_red(reference), mean_red(none), mean_red(clusters), mean_red(direct));
   EXPECT_GT(mean_red(indirect), 0.0);  // light comes through the doorway
   EXPECT_LT(mse_clusters, mse_none);
   EXPECT_LT(mse_clusters, mse_direct);

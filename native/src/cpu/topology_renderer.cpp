@@ -43,6 +43,8 @@ struct ViewSample {
 };
 
 namespace shared {
+using glm::abs;
+using glm::cross;
 using glm::dot;
 using glm::vec3;
 #define GATES_INLINE inline
@@ -51,7 +53,7 @@ using glm::vec3;
 }  // namespace shared
 
 bool in_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 x) {
-  return shared::in_gate_cone(p, gate.centre, gate.normal, gate.radius, x);
+  return shared::in_gate_cone(p, gate.centre, gate.normal, gate.axis_u, gate.half_u, gate.half_v, x);
 }
 
 // Whether the method lets a VPL at p in cluster `from` light x in cluster `to`: its own cluster without a test,
@@ -95,25 +97,25 @@ struct Assignment {
   uint32_t gate;  // kNoNode: same cluster, no test
 };
 
-// A sphere or a disk of the Topology pass, drawn where the primary ray meets it before the surface.
+// A sphere or a gate (a rectangle) of the Topology pass, drawn where the primary ray meets it before the surface.
 struct Glyph {
   glm::vec3 centre{0.0f};
-  glm::vec3 normal{0.0f};  // disks only
-  float radius = 0.0f;
-  bool disk = false;
+  float radius = 0.0f;  // a sphere's; around a gate's rectangle
+  const topology::Gate* gate = nullptr;
   glm::vec4 colour{0.0f};  // alpha: opacity over what lies behind
 };
 
 // Distance along the unit ray to the glyph, or infinity.
 float hit_glyph(const Glyph& glyph, glm::vec3 origin, glm::vec3 dir) {
   const glm::vec3 to_centre = glyph.centre - origin;
-  if (glyph.disk) {
-    const float facing = glm::dot(dir, glyph.normal);
+  if (const topology::Gate* gate = glyph.gate) {
+    const float facing = glm::dot(dir, gate->normal);
     if (std::abs(facing) < 1e-8f) return std::numeric_limits<float>::infinity();
-    const float t = glm::dot(to_centre, glyph.normal) / facing;
+    const float t = glm::dot(to_centre, gate->normal) / facing;
     const glm::vec3 offset = origin + dir * t - glyph.centre;
-    return t > 0.0f && glm::dot(offset, offset) <= glyph.radius * glyph.radius ? t
-                                                                               : std::numeric_limits<float>::infinity();
+    const bool inside = std::abs(glm::dot(offset, gate->axis_u)) <= gate->half_u &&
+                        std::abs(glm::dot(offset, glm::cross(gate->normal, gate->axis_u))) <= gate->half_v;
+    return t > 0.0f && inside ? t : std::numeric_limits<float>::infinity();
   }
   const float along = glm::dot(to_centre, dir);
   const float d2 = glm::dot(to_centre, to_centre) - along * along, r2 = glyph.radius * glyph.radius;
@@ -123,7 +125,8 @@ float hit_glyph(const Glyph& glyph, glm::vec3 origin, glm::vec3 dir) {
 }
 
 // The Topology pass (paper Figs. 2, 5, 9): surfaces in the colour of their visibility cluster, the skeleton's
-// nodes as spheres (segmented nodes: a quarter of their maximal ball, in their cluster's colour), gates as disks.
+// nodes as spheres (segmented nodes: a quarter of their maximal ball, in their cluster's colour), gates as
+// rectangles.
 // Drawn from the first sample's rays, through the pixel centres.
 void draw_topology_pass(const topology::Topology& topo, const BounceSettings& settings, const BounceCamera& camera,
                         int x0, int y0, int width, int height, const std::vector<ViewSample>& view,
@@ -132,19 +135,16 @@ void draw_topology_pass(const topology::Topology& topo, const BounceSettings& se
   if (settings.topology_show_skeleton) {
     const float dot = 0.5f * float(topo.grid.shape.voxel_size);
     for (std::size_t n = 0; n < topo.skeleton.position.size(); ++n)
-      glyphs.push_back({topo.skeleton.position[n], {}, dot, false, {0.9f, 0.9f, 0.9f, 1.0f}});
+      glyphs.push_back({topo.skeleton.position[n], dot, nullptr, {0.9f, 0.9f, 0.9f, 1.0f}});
     for (std::size_t m = 0; m < topo.segmented.original.size(); ++m) {
       const uint32_t node = topo.segmented.original[m];
-      glyphs.push_back({topo.skeleton.position[node],
-                        {},
-                        std::max(dot, 0.25f * topo.skeleton.radius[node]),
-                        false,
+      glyphs.push_back({topo.skeleton.position[node], std::max(dot, 0.25f * topo.skeleton.radius[node]), nullptr,
                         glm::vec4(cluster_colour(topo.cluster_of[m]), 1.0f)});
     }
   }
   if (settings.topology_show_gates)
     for (const topology::Gate& gate : topo.gates)
-      glyphs.push_back({gate.centre, gate.normal, gate.radius, true, {0.2f, 0.45f, 1.0f, 0.7f}});
+      glyphs.push_back({gate.centre, gate.radius, &gate, {0.2f, 0.45f, 1.0f, 0.7f}});
   // Screen rectangles of the glyphs' bounding boxes, so each row tests only the glyphs that may cover it.
   const glm::mat4 world_to_clip = glm::make_mat4(camera.projection) * glm::make_mat4(camera.world_to_view);
   std::vector<glm::ivec4> rects(glyphs.size());

@@ -9,6 +9,7 @@ JOBS: {"records": path, "info": optional path (receives Blender's version and th
        "extra_triangles": optional int (adds a flat grid of that many triangles, for sync throughput),
        "warm_up": true (default) renders once, unrecorded, before the first job of each engine and method,
        "jobs": [{"engine": "BOUNCE" | "CYCLES" | "CPU_REFERENCE", "width", "height", "repeats",
+                 "camera": optional name of the camera object to render from (default: the scene's camera),
                  "bounce": {setting: value},            # scene.bounce.<setting>; the rest stays at defaults
                  "cycles": {"samples", "seed", "device", "bounces"},  # the oracle of DESIGN.md: exactly `bounces`
                  "exr": optional path (multilayer EXR of the first repeat), "meta": {...copied into records},
@@ -115,6 +116,8 @@ def use_cycles_gpu():
 
 def configure(scene, job):
     bl_common.set_resolution(scene, job["width"], job["height"])
+    if job.get("camera"):
+        scene.camera = bpy.data.objects[job["camera"]]
     bl_common.linear_output(scene)
     if job["engine"] == "CYCLES":
         cycles = job.get("cycles", {})

@@ -28,13 +28,13 @@ class Suite:
     quick_cycles_samples: tuple = ()
     direct_baseline: bool = False                   # also render method DIRECT, for frame / direct-only ratios
     reference_bounces: int = 1                      # diffuse bounces of the Cycles reference
+    reference_per_method: bool = False              # measure each render against the bounces its method simulates
+    cpu_reference: bool = True                      # measure FLC renders against the CPU model too
+    configs: list = None                            # [{method, setting: value}]: the configurations instead of
+                                                    # `method` (each still swept over `sets`)
     script: str = None                              # a Blender script of benchmarks/ run on each scene instead
     script_config: dict = field(default_factory=dict)  # of the render jobs, and its config ("quick": overrides)
     report: object = None
-
-
-def _plural(count, noun):
-    return f"{count} {noun}" + ("" if count == 1 else "s")
 
 
 def _label(row, keys, named=()):
@@ -181,7 +181,8 @@ def error_time_report(ctx, records, stages):
                         verdict = f"Cycles is already below it at 1 sample ({t:.3g} s)"
                     else:
                         verdict = f"Cycles does not reach it within {max(c['samples'] for c in cycles)} samples"
-                    lines.append(f"- {scene}, {metric[:-9]}: Bounce {method} at {_plural(r['samples'], 'sample')} has relative "
+                    lines.append(f"- {scene}, {metric[:-9]}: Bounce {method} at "
+                                 f"{report.plural(r['samples'], 'sample')} has relative "
                                  f"RMSE {r[metric]:.3g} in {r['wall_seconds']:.3g} s; {verdict}.")
         ax.set_xscale("log")
         ax.set_yscale("log")

@@ -5,6 +5,7 @@ and writes into the output folder; it returns the Markdown it wants printed.
 import os
 from dataclasses import dataclass, field
 
+import budget
 import images
 import report
 from images import METRIC_TEXT
@@ -441,6 +442,10 @@ def topology_report(ctx, records, _stages):
                                "view (sRGB, clamped), in 0..255 units, the paper's measure.")
 
 
+_BUDGET_SCENES = [("cornell", 256, 256), ("sponza", 480, 270), ("two-rooms", 480, 270), ("two-rooms-wall", 480, 270),
+                  (budget.LIT_ROOM, 480, 270), ("sunlit-interior", 480, 270)]
+_QUICK_BUDGET_SCENES = [("cornell", 64, 64)] + [(name, 96, 54) for name, _, _ in _BUDGET_SCENES[1:]]
+
 _DRAGONS = (1, 2, 5, 10, 20, 50, 100)
 _QUICK_DRAGONS = (1, 2, 3)
 
@@ -507,4 +512,9 @@ SUITES = {s.name: s for s in (
                                    "resolutions": [64], "accuracy": {"topology_resolution": 64, "topology_vpls": 256},
                                    "preview": {"width": 128, "height": 64, "vpls": [256], "repeats": 1}}},
           report=topology_report),
+    Suite("budget", "error budget per light path against Cycles (direct, first and second bounce, combined): the "
+          "ratio of means over the image and its thirds and relMSE, per method, a picture of the signed errors, a "
+          "bias check, and the light leaking into a closed room", "DIRECT", _BUDGET_SCENES, _QUICK_BUDGET_SCENES,
+          sets={"samples": [16]}, repeats=1, configs=budget.CONFIGS, reference_bounces=2, reference_per_method=True,
+          cpu_reference=False, report=budget.budget_report),
 )}

@@ -1,11 +1,14 @@
-"""The error budget of scripts/benchmark (suite budget): how far each of Bounce's methods is from the Cycles oracle
-in each light path.
+"""The error budget of scripts/benchmark (suites budget and budget-time): how far each of Bounce's methods is from
+the Cycles oracle in each light path, and what error each buys in how much time.
 
 budget: per scene and configuration, each component of the render against its part of the Cycles references
 with one and two diffuse bounces (images.py; the combined against as many bounces as the method simulates):
 the ratio of means over the image and its thirds, relMSE per pixel and after a 4x4 box downsample; a picture
 of the signed error per component; a bias check; for the closed room of two-rooms-wall, the light that leaks
 into it through the wall.
+budget-time: the downsampled relMSE of Combined against the two-bounce oracle over render wall time, for each
+configuration at 1-64 samples and Cycles at 1-256; which method is best within 1 s and 2 s and whether it beats
+Cycles there; and each method's convergence (the Indirect's relMSE over samples, with its log-log slope).
 """
 import math
 
@@ -18,6 +21,7 @@ import report
 COMPONENTS = ("direct", "first", "second", "indirect", "combined")
 PICTURE_COMPONENTS = ("direct", "first", "second", "combined")
 BIAS_RANGE = (0.9, 1.1)
+BUDGETS_S = (1.0, 2.0)
 # Configurations: each a method and its settings (all others at their defaults). flc_visibility is FLC's
 # indirect visibility, a setting still to come: the suite skips that configuration until the build has it.
 CONFIGS = [{"method": "DIRECT"}, {"method": "FLC"}, {"method": "FLC", "flc_visibility": True},
@@ -199,3 +203,156 @@ def _measured(record):
     """A render's components as the budget measured them."""
     return images.bounces_apart(images.load(record["exr"]), record["oracle_bounces"])
 
+
+# budget-time: combined against the two-bounce oracle (what every method and Cycles are compared by), indirect
+# against the method's own number of bounces (its convergence).
+TIME_ERROR, CONVERGENCE_ERROR = "full_combined_rel_mse_4x4", "indirect_rel_mse_4x4"
+
+
+def budget_time_report(ctx, records, _stages):
+    """Per scene: the error of each configuration and sample count against its wall time beside Cycles' curve; the
+    best method within each budget; the first render's one-off cost; the convergence of each method."""
+    rows = [r for r in _config_rows(ctx, records) if TIME_ERROR in r]
+    lines = ["Configurations not run: " + "; ".join(ctx.skipped) + ".", ""] if ctx.skipped else []
+    plt = report.pyplot()
+    scenes = _scenes(rows)
+    fig, axes = plt.subplots(2, len(scenes), figsize=(5.5 * len(scenes), 8.4), squeeze=False)
+    colours = {config: f"C{i}" for i, config in enumerate(dict.fromkeys(r["config"] for r in rows
+                                                                        if r["config"] != "Cycles"))}
+    for column, scene in enumerate(scenes):
+        mine = sorted((r for r in rows if r["scene"] == scene), key=lambda r: (r["config"] != "Cycles", r["config"],
+                                                                             r["samples"]))
+        lines += [f"### {scene} ({mine[0]['width']}x{mine[0]['height']})", "",
+                  report.markdown(mine, ["config", "samples", "wall_seconds", "render_seconds", TIME_ERROR,
+                                         "full_combined_rel_rmse", CONVERGENCE_ERROR, "indirect_ratio"],
+                                  {"wall_seconds": "wall s", "render_seconds": "render s",
+                                   TIME_ERROR: "combined relMSE 4x4 (k=2)", "full_combined_rel_rmse":
+                                   "combined rel. RMSE (k=2)", CONVERGENCE_ERROR: "indirect relMSE 4x4 (own k)",
+                                   "indirect_ratio": "indirect ratio (own k)"}), ""]
+        cycles = [(r["wall_seconds"], r[TIME_ERROR]) for r in mine if r["config"] == "Cycles"]
+        lines += _budget_lines(scene, mine, cycles) + _first_render_lines(ctx, records, scene, mine)
+        convergence = _convergence(scene, mine, records)
+        lines += _convergence_lines(scene, convergence)
+        time_ax, samples_ax = axes[0][column], axes[1][column]
+        if cycles:
+            time_ax.plot(*zip(*cycles), marker="o", color="tab:gray", label="Cycles (2 bounces)")
+        for config in dict.fromkeys(r["config"] for r in mine if r["config"] != "Cycles"):
+            curve = [r for r in mine if r["config"] == config]
+            time_ax.plot([r["wall_seconds"] for r in curve], [r[TIME_ERROR] for r in curve], marker="s",
+                         color=colours[config], label=config)
+            if config in convergence:
+                points, own = convergence[config]
+                samples_ax.plot(*zip(*points), marker="s", color=colours[config],
+                                label=f"{config} (slope {report.fmt(_slope(points))})")
+                if own:
+                    samples_ax.plot(*zip(*own[1]), linestyle="--", marker=".", color=colours[config],
+                                    label=f"{config} vs its {own[0]} samples (slope {report.fmt(_slope(own[1]))})")
+        for budget in BUDGETS_S:
+            time_ax.axvline(budget, color="k", linestyle=":", linewidth=1)
+        time_ax.set(xscale="log", yscale="log", xlabel="render wall time (s)",
+                    ylabel="combined relMSE, 4x4 downsampled (vs 2 bounces)", title=scene)
+        samples_ax.set_xscale("log", base=2)
+        samples_ax.set(yscale="log", xlabel="samples", ylabel="indirect relMSE, 4x4 downsampled")
+        samples_ax.set_title(f"{scene}: convergence (solid: vs Cycles, own bounces;\ndashed: vs its own render with "
+                             "the most samples)", fontsize=9)
+        for ax in (time_ax, samples_ax):
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=7)
+    report.save(fig, ctx.out / f"{ctx.suite.name}.png", ctx.title)
+    return "\n".join(lines) + _TIME_NOTE
+
+
+_TIME_NOTE = """
+
+Errors: relMSE = mean((x - r)^2 / (r^2 + 0.01)) after a 4x4 box downsample of both images, over the pixels that
+see geometry. Combined is measured against Cycles with two diffuse bounces for every method (so a one-bounce
+method carries the missing second bounce as error), Indirect against the bounces the method simulates (its own
+target; a slope near -1 is unbiased Monte Carlo convergence, a flattening curve is the method's bias). The time is
+the wall time of Blender's render operator (scene sync included, EXR writing not), one render each, after a
+first render of the method in the same Blender run has paid the one-off costs (GL context, shaders, the
+topology); Cycles' error within a budget is interpolated in log-log between the sample counts that bracket it."""
+
+
+def _slope(points):
+    """The least-squares slope of log(error) over log(samples)."""
+    return report.linear_fit([math.log(x) for x, _ in points], [math.log(y) for _, y in points])[1]
+
+
+def _budget_lines(scene, rows, cycles):
+    """For each budget: the configuration and sample count with the lowest error within it, against Cycles'."""
+    lines = []
+    for budget in BUDGETS_S:
+        within = [r for r in rows if r["config"] != "Cycles" and r["wall_seconds"] <= budget]
+        cycles_error, how = report.error_at(cycles, budget)
+        if how == "before first point":
+            versus = f"Cycles has no image within it (1 sample takes {cycles[0][0]:.3g} s)"
+        elif how == "after last point":
+            versus = (f"Cycles' most samples take {cycles[-1][0]:.3g} s, less than the budget, for "
+                      f"{report.fmt(cycles_error)}")
+        else:
+            versus = f"Cycles reaches {report.fmt(cycles_error)}"
+        if not within:
+            lines.append(f"- {scene}, {budget:g} s: no Bounce render fits; {versus}.")
+            continue
+        best = min(within, key=lambda r: r[TIME_ERROR])
+        beats = math.isnan(cycles_error) or best[TIME_ERROR] < cycles_error
+        lines.append(f"- {scene}, {budget:g} s: best Bounce is {best['config']} at "
+                     f"{report.plural(best['samples'], 'sample')}, relMSE {report.fmt(best[TIME_ERROR])} in "
+                     f"{best['wall_seconds']:.3g} s; {versus}: Bounce {'beats' if beats else 'does NOT beat'} Cycles.")
+    return lines + [""]
+
+
+def _first_render_lines(ctx, records, scene, rows):
+    """Each method's first render in the Blender run (one-off costs included) beside the same render again."""
+    lines = []
+    for first in (r for r in records if r.get("role") == "warm-up" and r["scene"] == scene):
+        config = report.config_label(first.get("params") or {})
+        again = next((r for r in rows if r["config"] == config and r["samples"] == first.get("samples")), None)
+        if again is None:
+            continue
+        topology = f" (topology {first['topology'].split(':')[0]})" if first.get("topology") else ""
+        extra = first["wall_seconds"] - again["wall_seconds"]
+        lines.append(f"- {scene}, {config}, {report.plural(first['samples'], 'sample')}: first render in the "
+                     f"Blender run {first['wall_seconds']:.3g} s{topology}, the same render again "
+                     f"{again['wall_seconds']:.3g} s: "
+                     + (f"{extra:.3g} s of one-off costs." if extra > 0.1 * again["wall_seconds"] else
+                        "no one-off cost beyond the timing noise."))
+    return lines + [""] if lines else []
+
+
+def _convergence(scene, rows, records):
+    """{config: (curve, own)}: each configuration's indirect relMSE over samples against Cycles, and `own`
+    (_self_convergence: against its own render with the most samples, i.e. its variance alone, bias left out)."""
+    out = {}
+    for config in dict.fromkeys(r["config"] for r in rows if r["config"] != "Cycles"):
+        curve = [(r["samples"], r[CONVERGENCE_ERROR]) for r in rows if r["config"] == config
+                 and r.get(CONVERGENCE_ERROR, 0) > 0]
+        if len(curve) >= 2:
+            out[config] = curve, _self_convergence(
+                [r for r in records if r.get("role") == "measure" and r["scene"] == scene and r.get("exr")
+                 and report.config_label(r.get("params") or {}) == config])
+    return out
+
+
+def _convergence_lines(scene, convergence):
+    lines = []
+    for config, (curve, own) in convergence.items():
+        text = ", ".join(f"{report.fmt(e)}" for _, e in curve)
+        lines.append(f"- {scene}, {config}: indirect relMSE {text} at {', '.join(str(s) for s, _ in curve)} "
+                     f"samples, slope {report.fmt(_slope(curve))}" +
+                     (f"; against its own {own[0]}-sample render, slope {report.fmt(_slope(own[1]))}" if own else "")
+                     + ".")
+    return lines + [""] if lines else []
+
+
+def _self_convergence(records):
+    """(most samples, [(samples, indirect relMSE 4x4 against the render with the most samples)])."""
+    loaded = sorted(((r["samples"], images.load(r["exr"])) for r in records), key=lambda pair: pair[0])
+    loaded = [(samples, image) for samples, image in loaded if "indirect" in image]
+    if len(loaded) < 3:
+        return None
+    most, target = loaded[-1]
+    key = f"indirect_rel_mse_{images.DOWNSAMPLE}x{images.DOWNSAMPLE}"
+    points = [(samples, images.compare(image, target, "", parts=("indirect",))[key]) for samples, image in loaded[:-1]]
+    points = [p for p in points if p[1] > 0]
+    return (most, points) if len(points) >= 2 else None

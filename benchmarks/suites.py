@@ -445,6 +445,9 @@ def topology_report(ctx, records, _stages):
 _BUDGET_SCENES = [("cornell", 256, 256), ("sponza", 480, 270), ("two-rooms", 480, 270), ("two-rooms-wall", 480, 270),
                   (budget.LIT_ROOM, 480, 270), ("sunlit-interior", 480, 270)]
 _QUICK_BUDGET_SCENES = [("cornell", 64, 64)] + [(name, 96, 54) for name, _, _ in _BUDGET_SCENES[1:]]
+# Error over time needs a reference that is not black: not the closed room.
+_TIME_SCENES = [s for s in _BUDGET_SCENES if s[0] not in (budget.CLOSED_ROOM, budget.LIT_ROOM)]
+_QUICK_TIME_SCENES = [s for s in _QUICK_BUDGET_SCENES if s[0] not in (budget.CLOSED_ROOM, budget.LIT_ROOM)]
 
 _DRAGONS = (1, 2, 5, 10, 20, 50, 100)
 _QUICK_DRAGONS = (1, 2, 3)
@@ -517,4 +520,10 @@ SUITES = {s.name: s for s in (
           "bias check, and the light leaking into a closed room", "DIRECT", _BUDGET_SCENES, _QUICK_BUDGET_SCENES,
           sets={"samples": [16]}, repeats=1, configs=budget.CONFIGS, reference_bounces=2, reference_per_method=True,
           cpu_reference=False, report=budget.budget_report),
+    Suite("budget-time", "error against render time per method at 1-64 samples and Cycles at 1-256 samples "
+          "(combined against two bounces); the best method within 1 s and 2 s against Cycles; convergence of "
+          "each method's indirect light", "DIRECT", _TIME_SCENES, _QUICK_TIME_SCENES,
+          sets={"samples": [1, 4, 16, 64]}, quick_sets={"samples": [1, 4]}, repeats=1, configs=budget.CONFIGS,
+          cycles_samples=tuple(2 ** i for i in range(9)), quick_cycles_samples=(1, 2, 4, 8), reference_bounces=2,
+          reference_per_method=True, cpu_reference=False, report=budget.budget_time_report),
 )}

@@ -94,7 +94,48 @@ def budget_report(ctx, records, _stages):
               "(FLC without indirect visibility is listed but not held to the rule):", ""]
     lines += flags or ["- none"]
     lines += ["", *_leak_lines(rows)]
+    _ratio_overview(rows, ctx.out / f"{ctx.suite.name}.png", ctx.title)
     return "\n".join(lines) + _NOTE
+
+
+def _ratio_overview(rows, path, title):
+    """Per scene, each configuration's ratio of means per component (dots, log scale) with the range over the
+    image thirds (lines) and the bias check's band; ratios that are inf or nan (black references) are left out."""
+    plt = report.pyplot()
+    scenes = [s for s in _scenes(rows) if any(math.isfinite(r.get(f"{p}_ratio", math.nan)) for r in rows
+                                              if r["scene"] == s for p in COMPONENTS)]
+    if not scenes:
+        return
+    configs = list(dict.fromkeys(r["config"] for r in rows))
+    columns = min(3, len(scenes))
+    rows_of_panels = -(-len(scenes) // columns)
+    fig, axes = plt.subplots(rows_of_panels, columns, figsize=(5.5 * columns, 4.2 * rows_of_panels), squeeze=False)
+    for ax in axes.flat[len(scenes):]:
+        ax.axis("off")
+    width = 0.8 / len(configs)
+    for ax, scene in zip(axes.flat, scenes):
+        for i, config in enumerate(configs):
+            row = next((r for r in rows if r["scene"] == scene and r["config"] == config), {})
+            for j, part in enumerate(COMPONENTS):
+                ratio = row.get(f"{part}_ratio", math.nan)
+                if not math.isfinite(ratio):
+                    continue
+                x = j + (i - (len(configs) - 1) / 2) * width
+                ax.plot(x, ratio, marker="o", color=f"C{i}", label=config)
+                thirds = [row.get(f"{part}_ratio_{t}", math.nan) for t in images.THIRDS]
+                thirds = [t for t in thirds if math.isfinite(t) and t > 0]
+                if thirds:
+                    ax.plot([x, x], [min(thirds), max(thirds)], color=f"C{i}", linewidth=1.5)
+        ax.axhspan(*BIAS_RANGE, color="tab:green", alpha=0.15)
+        ax.axhline(1.0, color="k", linewidth=0.8)
+        ax.set_yscale("log")
+        ax.set_xticks(range(len(COMPONENTS)), COMPONENTS, fontsize=8)
+        ax.set_ylabel("mean(Bounce) / mean(Cycles)")
+        ax.set_title(scene, fontsize=10)
+        handles, labels = ax.get_legend_handles_labels()
+        unique = dict(zip(labels, handles))
+        ax.legend(unique.values(), unique.keys(), fontsize=7)
+    report.save(fig, path, title)
 
 
 _NOTE = """

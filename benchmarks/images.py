@@ -18,7 +18,8 @@ colour channels, x the image and r the reference:
   relMSE        = mean((x - r)^2 / (r^2 + 0.01)), per pixel and after a 4x4 box downsample of both images (so
                   pixel filters and sub-pixel shadow-edge shifts do not dominate)
   ratio         = mean(x) / mean(r), over the whole image and over its left, middle and right thirds (columns):
-                  bias that relMSE's + 0.01 hides in dark indirect light (inf where only the reference is black)
+                  bias that relMSE's + 0.01 hides in dark indirect light (inf where only the reference is black,
+                  below BLACK_LEVEL)
 """
 import numpy as np
 import OpenImageIO as oiio
@@ -27,6 +28,9 @@ METRIC_TEXT = ("relative RMSE = sqrt(mean((x - r)^2)) / sqrt(mean(r^2)), relativ
                "over the RGB values of the pixels where the reference sees geometry (alpha > 0.5)")
 THIRDS = ("left", "middle", "right")
 DOWNSAMPLE = 4  # the box filter of the downsampled relMSE, in pixels
+# Mean radiance that counts as black in the ratio of means: under half a code value of an 8-bit sRGB image. Stray
+# light (a pixel filter spreading a sunlit patch, Cycles' rare paths through a wall's edge) stays below it.
+BLACK_LEVEL = 1e-4
 
 _CHANNEL_ORDER = "RGBAXYZVW"
 
@@ -162,18 +166,18 @@ def box_downsample(image, factor=DOWNSAMPLE):
 
 
 def mean_ratios(image, reference, mask):
-    """mean(x) / mean(r) over `mask`, then over each third of the columns; also both means. Where the reference
-    is black the ratio is inf, or nan where the image is black too: below a thousandth of the reference's mean
-    over the whole image (stray light a pixel filter spreads next to a lit patch is not a leak)."""
+    """mean(x) / mean(r) over `mask`, then over each third of the columns; also both means. A mean below
+    BLACK_LEVEL, or below a thousandth of the reference's mean over the whole image, is black: where the reference
+    is black the ratio is inf, or nan where the image is black too."""
     def means(columns):
         return tuple(float(np.mean(v[:, columns][mask[:, columns]])) if mask[:, columns].any() else float("nan")
                      for v in (image, reference))
 
     mean_x, mean_r = means(slice(None))
-    black = 1e-3 * mean_r if mean_r > 0 else 0.0
+    black = max(BLACK_LEVEL, 1e-3 * mean_r)
 
     def ratio(x, r):
-        return x / r if r > 0 else float("inf") if x > black else float("nan")
+        return x / r if r > black else float("inf") if x > black else float("nan")
 
     out = {"mean": mean_x, "reference_mean": mean_r, "ratio": ratio(mean_x, mean_r)}
     for name, columns in zip(THIRDS, np.array_split(np.arange(image.shape[1]), 3)):

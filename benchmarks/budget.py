@@ -213,7 +213,7 @@ def _signed_error_picture(records, path, title):
         # Each its own exposure (in the title, from its lit pixels): the bounces are much darker than the direct
         # light, which may light only a few pixels.
         lit = reference[part][reference[part] > 0]
-        level = float(np.percentile(lit, 98)) if lit.size else 0.0
+        level = float(np.percentile(lit, 98)) if reference[part].mean() > images.BLACK_LEVEL else 0.0
         exposure = 1.0 / level if level > 0 else 1.0
         ax.imshow(display.srgb(reference[part] * exposure))
         ax.set_title(f"Cycles {part}" + (", 2 bounces" if part == "combined" else "") +

@@ -44,12 +44,16 @@ def _scenes(rows):
     return list(dict.fromkeys(r["scene"] for r in rows))
 
 
+def _skipped_lines(ctx):
+    return ["Configurations not run: " + "; ".join(ctx.skipped) + ".", ""] if ctx.skipped else []
+
+
 def _exempt(config):
     """FLC without indirect visibility leaks light by design (the paper's model): reported, not held to the rule."""
     return config == "FLC"
 
 
-def _cell(row, part, fields, digits=3):
+def _cell(row, part, fields):
     values = [row.get(f"{part}_{f}") for f in fields]
     if all(v is None or (isinstance(v, float) and math.isnan(v)) for v in values):
         return "-"
@@ -60,9 +64,7 @@ def budget_report(ctx, records, _stages):
     """Per scene a table of each component's ratio and relMSE per configuration, a picture of the signed errors;
     then the bias check and the closed room's leak."""
     rows = _config_rows(ctx, records)
-    lines = []
-    if ctx.skipped:
-        lines += ["Configurations not run: " + "; ".join(ctx.skipped) + ".", ""]
+    lines = _skipped_lines(ctx)
     columns = ["config", "oracle k"]
     for part in COMPONENTS:
         columns += [f"{part} ratio", f"{part} L / M / R", f"{part} relMSE / 4x4"]
@@ -254,7 +256,7 @@ def budget_time_report(ctx, records, _stages):
     """Per scene: the error of each configuration and sample count against its wall time beside Cycles' curve; the
     best method within each budget; the first render's one-off cost; the convergence of each method."""
     rows = [r for r in _config_rows(ctx, records) if TIME_ERROR in r]
-    lines = ["Configurations not run: " + "; ".join(ctx.skipped) + ".", ""] if ctx.skipped else []
+    lines = _skipped_lines(ctx)
     plt = report.pyplot()
     scenes = _scenes(rows)
     fig, axes = plt.subplots(2, len(scenes), figsize=(5.5 * len(scenes), 8.4), squeeze=False)

@@ -52,7 +52,8 @@ def parse_args(argv):
     parser.add_argument("--set", action="append", default=[], metavar="NAME=V[,V...]",
                         help="a scene.bounce setting; several values sweep it (repeatable; sweeps multiply)")
     parser.add_argument("--scenes", help="comma-separated scene names instead of the suite's: cornell, sponza, two-rooms, "
-                        "grid, grid-100k, dragons-N")
+                        "two-rooms-wall, sunlit-interior, grid, grid-100k, dragons-N; NAME:CAMERA renders NAME "
+                        "through its camera object CAMERA (e.g. two-rooms-wall:CameraA)")
     parser.add_argument("--resolution", help="WxH for every scene instead of the suite's")
     parser.add_argument("--repeats", type=int, help="renders per configuration (timings are medians)")
     parser.add_argument("--copies", help="triangles suite: dragon copies, e.g. 1,2,5,10 (100k triangles each)")
@@ -77,10 +78,11 @@ def parse_args(argv):
 
 
 class Context:
-    """What a suite's report needs: the suite, its output folder, the swept setting names, a title."""
+    """What a suite's report needs: the suite, its output folder, the swept setting names, a title, and the
+    configurations left out (a sentence each)."""
 
-    def __init__(self, suite, out, swept, title):
-        self.suite, self.out, self.swept, self.title = suite, out, swept, title
+    def __init__(self, suite, out, swept, title, skipped=()):
+        self.suite, self.out, self.swept, self.title, self.skipped = suite, out, swept, title, list(skipped)
 
     @staticmethod
     def summarise(records, keys):
@@ -111,18 +113,35 @@ def plan_scenes(args, suite, cache):
     return scenes
 
 
-def sweep(args, suite):
-    """The configurations: the product of every swept setting; the names that vary, for the tables."""
+def sweep(args, suite, settings):
+    """The configurations: the suite's list of configurations (a method and its settings each; --method keeps
+    that method's), else its method, each with the product of every swept setting; the names that vary, for the
+    tables; and a sentence for each listed configuration left out because `settings` (scene.bounce's) lacks one
+    of its settings (a setting still to come), so that a suite runs on before the setting exists."""
     sets = dict(suite.sets)
     if args.quick:
         sets.update(suite.quick_sets)
-    sets["method"] = [args.method or suite.method]
-    if suite.direct_baseline and "DIRECT" not in sets["method"]:
-        sets["method"] = sets["method"] + ["DIRECT"]
+    skipped = []
+    if suite.configs:
+        bases = []
+        for base in suite.configs:
+            missing = [name for name in base if name not in settings]
+            if missing:
+                skipped.append(f"{report.config_label(base)}: scene.bounce has no setting {', '.join(missing)} in this "
+                               "build")
+            elif not args.method or base["method"] == args.method:
+                bases.append(base)
+    else:
+        methods = [args.method or suite.method]
+        if suite.direct_baseline and "DIRECT" not in methods:
+            methods.append("DIRECT")
+        bases = [{"method": method} for method in methods]
     sets.update(parse_sets(args.set))
     names = list(sets)
-    configs = [dict(zip(names, values)) for values in itertools.product(*(sets[n] for n in names))]
-    return configs, [n for n in names if len(sets[n]) > 1 and n != "method"]
+    configs = [dict(base, **dict(zip(names, values))) for base in bases
+               for values in itertools.product(*(sets[n] for n in names))]
+    varying = {k for c in configs for k in c if k != "method" and len({str(d.get(k)) for d in configs}) > 1}
+    return configs, [n for n in dict.fromkeys(k for c in configs for k in c) if n in varying], skipped
 
 
 def jobs_for(scene, width, height, configs, args, suite, renders, errors):
@@ -148,16 +167,19 @@ def jobs_for(scene, width, height, configs, args, suite, renders, errors):
 class Errors:
     """Loads each reference once and measures renders against it (and against the CPU model, if wanted).
     `references`: the Cycles references with 1 .. k bounces; renders are measured against the k-bounce one,
-    and with k = 2 each bounce against its own part."""
+    and with k = 2 each bounce against its own part. With `defaults` (scene.bounce's settings and their default
+    values), each render is measured against the bounces its method simulates instead (simulated_bounces), and
+    its combined also against the k-bounce reference ('full_' columns)."""
 
-    def __init__(self, references, cpu_references):
+    def __init__(self, references, cpu_references, defaults=None):
         self.references, self.cpu_references, self.loaded = references, cpu_references, {}
+        self.defaults = defaults
+
+    def paths(self, scene, width, height):
+        return [str(r.path(scene, width, height)) for r in self.references]
 
     def reference(self, scene, width, height):
-        last = self._load(self.references[-1].path(scene, width, height))
-        if len(self.references) == 1:
-            return last
-        return images.with_bounces(last, self._load(self.references[0].path(scene, width, height)))
+        return images.reference_from([self._load(p) for p in self.paths(scene, width, height)])
 
     def _load(self, path):
         if path not in self.loaded:
@@ -168,13 +190,31 @@ class Errors:
         if not record.get("exr"):
             return {}
         image = images.load(record["exr"])
-        errors = images.compare(image, self.reference(scene, record["width"], record["height"]), "")
+        reference = self.reference(scene, record["width"], record["height"])
+        if self.defaults is None:
+            errors = images.compare(image, reference, "")
+        else:
+            bounces = simulated_bounces(record, self.defaults, len(self.references))
+            errors = images.compare(images.bounces_apart(image, bounces), images.up_to(reference, bounces), "")
+            errors.update(images.compare(image, reference, "full_", parts=("combined",)), oracle_bounces=bounces,
+                          reference_exrs=self.paths(scene, record["width"], record["height"]))
         if self.cpu_references is not None:
             model = self._load(self.cpu_references.path(scene, record["width"], record["height"]))
             reference = images.against_cpu_model(image, model)
             if reference is not None:
                 errors.update(images.compare(image, reference, "cpuref_"))
         return errors
+
+
+def simulated_bounces(record, defaults, most):
+    """The diffuse bounces a render simulates, at most `most`: none for DIRECT, one for FLC, the 'bounces'
+    setting (or its default) for the others; a Cycles render the `most` of the references it is measured with."""
+    if record.get("engine") == "CYCLES":
+        return most
+    params = record.get("params") or {}
+    method = params.get("method", defaults.get("method"))
+    bounces = {"DIRECT": 0, "FLC": 1}.get(method, params.get("bounces", defaults.get("bounces", most)))
+    return min(int(bounces), most)
 
 
 def main(argv=None):
@@ -189,15 +229,18 @@ def main(argv=None):
     log(f"Blender {probe['blender']}, GL {probe['gl']}")
     cache = runner.BUILD / "benchmark" / "scenes"
     scenes = plan_scenes(args, suite, cache)
-    configs, swept = sweep(args, suite)
+    configs, swept, skipped = sweep(args, suite, probe.get("settings", {}))
+    for sentence in skipped:
+        log(f"skipped {sentence}")
     errors = suite.errors and not args.no_errors
     references = [runner.References(args.references or runner.BUILD / "benchmark" / "references", probe["blender"],
                                     args.reference_samples or (32 if args.quick else 1024), args.cycles_device,
                                     bounces) for bounces in range(1, suite.reference_bounces + 1)]
-    use_cpu_model = errors and not args.no_cpu_reference and "FLC" in {c["method"] for c in configs}
+    use_cpu_model = errors and suite.cpu_reference and not args.no_cpu_reference and \
+        "FLC" in {c["method"] for c in configs}
     cpu_references = runner.CpuReferences(
         references[0].folder, args.cpu_reference_points or (4096 if args.quick else 65536)) if use_cpu_model else None
-    measure = Errors(references, cpu_references)
+    measure = Errors(references, cpu_references, probe["settings"] if suite.reference_per_method else None)
 
     if args.report_only:
         records = [json.loads(line) for line in (out / "records.jsonl").read_text().splitlines() if line.strip()]
@@ -218,6 +261,7 @@ def main(argv=None):
             for record in scene_records:
                 if record.get("role") == "measure":
                     record.update(suite=suite.name, **measure.measure(scene, record) if errors else {})
+                if record.get("role") in ("measure", "warm-up"):
                     records.append(record)
             log(f"scene {scene.name} done in {time.perf_counter() - scene_start:.1f} s")
 
@@ -237,7 +281,7 @@ def main(argv=None):
     report.write_csv(out / "records.csv", records)
     title = (f"Bounce {suite.name}: {probe['gl'].split(' |')[0]}, {os.cpu_count()} CPU cores, "
              f"Blender {probe['blender']}" + (" (quick)" if args.quick else ""))
-    ctx = Context(suite, out, swept, title)
+    ctx = Context(suite, out, swept, title, skipped)
     text = suite.report(ctx, records, report.stage_names(records))
     summary = ctx.summarise(records, ["scene", "engine", "method", "width", "height", *swept, "samples"])
     report.write_csv(out / "summary.csv", summary)

@@ -5,10 +5,13 @@
 renders the open scene once per job and repeat, and appends one JSON line per render to JOBS["records"].
 Works with the Python APIs of Blender 3.4, 4.x and 5.x.
 
-JOBS: {"records": path, "info": optional path (receives Blender's version and the GL renderer),
+JOBS: {"records": path, "info": optional path (receives Blender's version, the GL renderer and scene.bounce's
+                                                settings with their default values),
        "extra_triangles": optional int (adds a flat grid of that many triangles, for sync throughput),
-       "warm_up": true (default) renders once, unrecorded, before the first job of each engine and method,
+       "warm_up": true (default) renders one sample before the first job of each engine and method (Bounce's
+                  recorded with role "warm-up": its wall time is a first render's, one-off costs included),
        "jobs": [{"engine": "BOUNCE" | "CYCLES" | "CPU_REFERENCE", "width", "height", "repeats",
+                 "camera": optional name of the camera object to render from (default: the scene's camera),
                  "bounce": {setting: value},            # scene.bounce.<setting>; the rest stays at defaults
                  "cycles": {"samples", "seed", "device", "bounces"},  # the oracle of DESIGN.md: exactly `bounces`
                  "exr": optional path (multilayer EXR of the first repeat), "meta": {...copied into records},
@@ -115,6 +118,8 @@ def use_cycles_gpu():
 
 def configure(scene, job):
     bl_common.set_resolution(scene, job["width"], job["height"])
+    if job.get("camera"):
+        scene.camera = bpy.data.objects[job["camera"]]
     bl_common.linear_output(scene)
     if job["engine"] == "CYCLES":
         cycles = job.get("cycles", {})
@@ -133,6 +138,20 @@ def configure(scene, job):
     else:
         scene.render.engine = "BOUNCE"
         apply_settings(scene.bounce, job.get("bounce", {}))
+
+
+def setting_defaults(props):
+    """{setting: default value} of scene.bounce (a PropertyGroup), so the driver knows which settings this build
+    has."""
+    defaults = {}
+    for prop in props.bl_rna.properties:
+        if prop.identifier == "rna_type":
+            continue
+        value = getattr(prop, "default", None)
+        if getattr(prop, "is_array", False):
+            value = list(prop.default_array)
+        defaults[prop.identifier] = value if isinstance(value, (bool, int, float, str)) else None
+    return defaults
 
 
 def apply_settings(props, values):
@@ -173,55 +192,67 @@ def render_job(scene, job, records, index, count, warmed):
     if job["engine"] == "CPU_REFERENCE":
         export_cpu_reference(scene, job)
         return
-    final = addon_module("final")
     configure(scene, job)
     method = (job["engine"], job.get("bounce", {}).get("method"))
-    if warmed is not None and method not in warmed:
-        # The first render of a method in a Blender process also creates the GL context and compiles its
-        # shaders: a one-off cost that is not the frame's, so an unrecorded render pays it.
-        warmed.add(method)
-        if job["engine"] == "CYCLES":  # loading Cycles' kernels is the one-off part; one sample pays it
-            samples, scene.cycles.samples = scene.cycles.samples, 1
-            bpy.ops.render.render()
-            scene.cycles.samples = samples
-        else:
-            bpy.ops.render.render()
     meta = job.get("meta", {})
     name = meta.get("label", job["engine"])
-    for repeat in range(job.get("repeats", 1)):
-        final.last_render.clear()
-        # A fresh engine each render, as F12 makes one: every render syncs the whole scene.
-        start = time.perf_counter()
-        bpy.ops.render.render()
-        wall = time.perf_counter() - start
-        record = dict(meta, engine=job["engine"], width=job["width"], height=job["height"], repeat=repeat,
-                      wall_seconds=wall, blender=bpy.app.version_string)
+    if warmed is not None and method not in warmed:
+        # The first render of a method in a Blender process also creates the GL context and compiles its
+        # shaders, loads Cycles' kernels, builds what the core caches (the topology): one-off costs that are not
+        # the frame's, so a render pays them first. Bounce's is recorded, as role "warm-up".
+        # One sample pays it.
+        warmed.add(method)
+        settings = scene.cycles if job["engine"] == "CYCLES" else scene.bounce
+        samples, settings.samples = settings.samples, 1
         if job["engine"] == "CYCLES":
-            record["samples"] = scene.cycles.samples
+            bpy.ops.render.render()
         else:
-            info = dict(final.last_render)
-            if not info:
-                raise RuntimeError("the render produced no frame (see the report above)")
-            record.update(samples=info["samples"], sync_seconds=info["sync_seconds"],
-                          render_seconds=info["render_seconds"], triangles=info["triangles"],
-                          instances=info.get("instances"),
-                          stages={stage: {"gpu_ms": gpu, "cpu_ms": cpu} for stage, gpu, cpu in info["stages"]})
-        if repeat == 0 and job.get("exr"):
-            save_exr(scene, job["exr"])
-            record["exr"] = job["exr"]
-        records.write(json.dumps(record) + "\n")
-        records.flush()
-        print(f"benchmark: [{index}/{count}] {name} repeat {repeat + 1}/{job.get('repeats', 1)}: "
-              f"wall {wall:.2f} s" + (f", sync {record['sync_seconds'] * 1e3:.0f} ms, render "
-                                      f"{record['render_seconds'] * 1e3:.0f} ms" if "sync_seconds" in record else ""),
-              flush=True)
+            render_once(scene, job, records, dict(meta, role="warm-up"), f"[{index}/{count}] {name} warm-up")
+        settings.samples = samples
+    for repeat in range(job.get("repeats", 1)):
+        render_once(scene, job, records, dict(meta, repeat=repeat),
+                    f"[{index}/{count}] {name} repeat {repeat + 1}/{job.get('repeats', 1)}",
+                    exr=job.get("exr") if repeat == 0 else None)
+
+
+def render_once(scene, job, records, meta, progress, exr=None):
+    """Renders the configured scene once and appends its record (`meta` plus what the render measured)."""
+    final = addon_module("final")
+    final.last_render.clear()
+    # A fresh engine each render, as F12 makes one: every render syncs the whole scene.
+    start = time.perf_counter()
+    bpy.ops.render.render()
+    wall = time.perf_counter() - start
+    record = dict(meta, engine=job["engine"], width=job["width"], height=job["height"], wall_seconds=wall,
+                  blender=bpy.app.version_string)
+    if job["engine"] == "CYCLES":
+        record["samples"] = scene.cycles.samples
+    else:
+        info = dict(final.last_render)
+        if not info:
+            raise RuntimeError("the render produced no frame (see the report above)")
+        record.update(samples=info["samples"], sync_seconds=info["sync_seconds"],
+                      render_seconds=info["render_seconds"], triangles=info["triangles"],
+                      instances=info.get("instances"),
+                      stages={stage: {"gpu_ms": gpu, "cpu_ms": cpu} for stage, gpu, cpu in info["stages"]})
+        if "topology" in info:  # whether this render built the topology or found it cached
+            record["topology"] = info["topology"]
+    if exr:
+        save_exr(scene, exr)
+        record["exr"] = exr
+    records.write(json.dumps(record) + "\n")
+    records.flush()
+    print(f"benchmark: {progress}: wall {wall:.2f} s" + (f", sync {record['sync_seconds'] * 1e3:.0f} ms, render "
+                                                        f"{record['render_seconds'] * 1e3:.0f} ms"
+                                                        if "sync_seconds" in record else ""), flush=True)
 
 
 def main():
     config = bl_common.load_json(bl_common.args()[0])
     scene = bpy.context.scene
     if config.get("info"):
-        bl_common.write_json(config["info"], {"blender": bpy.app.version_string, "gl": gl_renderer()})
+        bl_common.write_json(config["info"], {"blender": bpy.app.version_string, "gl": gl_renderer(),
+                                              "settings": setting_defaults(scene.bounce)})
     if config.get("extra_triangles"):
         add_triangle_grid(config["extra_triangles"])
     jobs = config.get("jobs", [])

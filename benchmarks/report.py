@@ -59,6 +59,10 @@ def summarise(records, keys):
     return rows
 
 
+def plural(count, noun):
+    return f"{count} {noun}" + ("" if count == 1 else "s")
+
+
 def fmt(value):
     if isinstance(value, float):
         if math.isnan(value):
@@ -109,20 +113,48 @@ def linear_fit(xs, ys):
     return a, b, (1 - ss_res / ss_tot) if ss_tot > 0 else float("nan")
 
 
+def config_label(config):
+    """'FLC flc_visibility=True': a configuration's method and its other settings but samples."""
+    return " ".join([str(config.get("method") or "")] + [f"{k}={v}" for k, v in config.items()
+                                                         if k not in ("method", "samples") and v is not None]).strip()
+
+
+def _loglog(x, x0, x1, y0, y1):
+    """y at x on the straight line through (x0, y0) and (x1, y1) in log-log."""
+    f = (math.log(x) - math.log(x0)) / (math.log(x1) - math.log(x0))
+    return math.exp(math.log(y0) + f * (math.log(y1) - math.log(y0)))
+
+
+def _positive(curve):
+    return [p for p in curve if p[1] > 0 and p[0] > 0 and not math.isnan(p[1])]
+
+
 def crossing_time(curve, error):
     """Where a (time, error) curve, in increasing sample order, first reaches `error`, interpolated linearly in
     log-log between the two points that bracket it (sample order, not time order: timing noise may reorder
     cheap renders). Returns (time, how) with how 'interpolated', 'below first point' or 'not reached'."""
-    points = [p for p in curve if p[1] > 0 and p[0] > 0 and not math.isnan(p[1])]
+    points = _positive(curve)
     if not points:
         return float("nan"), "no curve"
     if error >= points[0][1]:
         return points[0][0], "below first point"
     for (t0, e0), (t1, e1) in zip(points, points[1:]):
         if e1 <= error <= e0 and e0 != e1:
-            f = (math.log(error) - math.log(e0)) / (math.log(e1) - math.log(e0))
-            return math.exp(math.log(t0) + f * (math.log(t1) - math.log(t0))), "interpolated"
+            return _loglog(error, e0, e1, t0, t1), "interpolated"
     return float("nan"), "not reached"
+
+
+def error_at(curve, time):
+    """The error of a (time, error) curve, in increasing sample order, at `time`: interpolated linearly in log-log
+    between the last point not after `time` and the next one. Returns (error, how) with how 'interpolated',
+    'before first point' (nan: the curve's cheapest render takes longer) or 'after last point' (its last error)."""
+    points = _positive(curve)
+    if not points or time < points[0][0]:
+        return float("nan"), "before first point" if points else "no curve"
+    for (t0, e0), (t1, e1) in zip(points, points[1:]):
+        if t0 <= time <= t1 and t0 != t1:
+            return _loglog(time, t0, t1, e0, e1), "interpolated"
+    return points[-1][1], "after last point"
 
 
 def pyplot():

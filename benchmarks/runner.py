@@ -21,6 +21,10 @@ SETUPS = SHARED / "scenes" / "setups"
 RENDER_SCRIPT = HERE / "blender_render.py"
 DRAGON_SCRIPT = HERE / "dragon_scene.py"
 TWO_ROOMS_SCRIPT = HERE / "two_rooms_scene.py"
+SUNLIT_INTERIOR_SCRIPT = HERE / "sunlit_interior_scene.py"
+# The scenes built by this folder's scripts: name -> (script, its arguments).
+LOCAL_SCENES = {"two-rooms": (TWO_ROOMS_SCRIPT, []), "two-rooms-wall": (TWO_ROOMS_SCRIPT, ["--wall"]),
+                "sunlit-interior": (SUNLIT_INTERIOR_SCRIPT, [])}
 # Seeds differ so a reference's noise is independent of the Cycles renders measured against it.
 REFERENCE_SEED = 7919
 CYCLES_SEED = 0
@@ -48,11 +52,12 @@ def _digest(*parts):
 
 class Scene:
     """A scene to render: `name` for tables, `blend` (None: the factory scene), `key` for the reference cache
-    (changes when the script that builds the scene changes), `extra_triangles` for the sync grid."""
+    (changes when the script that builds the scene changes), `extra_triangles` for the sync grid, `camera` the
+    camera object every render of it looks through (None: the .blend's active camera)."""
 
-    def __init__(self, name, blend=None, key=None, extra_triangles=0, triangles_hint=None):
+    def __init__(self, name, blend=None, key=None, extra_triangles=0, triangles_hint=None, camera=None):
         self.name, self.blend, self.key = name, blend, key or name
-        self.extra_triangles, self.triangles_hint = extra_triangles, triangles_hint
+        self.extra_triangles, self.triangles_hint, self.camera = extra_triangles, triangles_hint, camera
 
 
 def _build(name, script, args, cache):
@@ -74,18 +79,20 @@ def _build(name, script, args, cache):
 
 
 def standard_scene(name, cache):
-    """cornell, sponza (from ../shared/scenes/setups), two-rooms (benchmarks/two_rooms_scene.py) or grid (the
-    factory scene plus 1M triangles)."""
+    """cornell, sponza (from ../shared/scenes/setups), two-rooms, two-rooms-wall, sunlit-interior (LOCAL_SCENES)
+    or grid (the factory scene plus 1M triangles). 'NAME:CAMERA' (e.g. two-rooms-wall:CameraA) is scene NAME seen
+    through its camera object CAMERA; its references are cached apart."""
     if name == "grid":
         return Scene("grid-1M", extra_triangles=1_000_000)
     if name.startswith("grid-"):  # grid-<triangles>, e.g. grid-100k for quick runs
         count = int(float(name[5:].lower().replace("k", "e3").replace("m", "e6")))
         return Scene(name, extra_triangles=count)
-    script = TWO_ROOMS_SCRIPT if name == "two-rooms" else SETUPS / f"{name}.py"
+    base, _, camera = name.partition(":")
+    script, args = LOCAL_SCENES.get(base, (SETUPS / f"{base}.py", []))
     if not script.exists():
-        sys.exit(f"scripts/benchmark: no scene '{name}' ({script} not found)")
-    blend, key = _build(name, script, [], cache)
-    return Scene(name, blend, key)
+        sys.exit(f"scripts/benchmark: no scene '{base}' ({script} not found)")
+    blend, key = _build(base, script, args, cache)
+    return Scene(name, blend, f"{key}-{camera}" if camera else key, camera=camera or None)
 
 
 def dragon_scene(copies, instancing, cache):
@@ -101,7 +108,10 @@ def blender_command(blend, jobs_file, script=RENDER_SCRIPT):
 
 
 def run_blender(scene, jobs, work, info=None):
-    """Renders `jobs` in one Blender run; returns the records it wrote. Progress lines pass through."""
+    """Renders `jobs` in one Blender run (through the scene's camera, if it names one); returns the records it
+    wrote. Progress lines pass through."""
+    if scene.camera:
+        jobs = [dict(job, camera=scene.camera) for job in jobs]
     return run_script(scene, RENDER_SCRIPT, {"info": str(info) if info else None,
                                              "extra_triangles": scene.extra_triangles, "jobs": jobs}, work)
 

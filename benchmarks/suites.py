@@ -5,6 +5,7 @@ and writes into the output folder; it returns the Markdown it wants printed.
 import os
 from dataclasses import dataclass, field
 
+import budget
 import images
 import report
 from images import METRIC_TEXT
@@ -28,13 +29,13 @@ class Suite:
     quick_cycles_samples: tuple = ()
     direct_baseline: bool = False                   # also render method DIRECT, for frame / direct-only ratios
     reference_bounces: int = 1                      # diffuse bounces of the Cycles reference
+    reference_per_method: bool = False              # measure each render against the bounces its method simulates
+    cpu_reference: bool = True                      # measure FLC renders against the CPU model too
+    configs: list = None                            # [{method, setting: value}]: the configurations instead of
+                                                    # `method` (each still swept over `sets`)
     script: str = None                              # a Blender script of benchmarks/ run on each scene instead
     script_config: dict = field(default_factory=dict)  # of the render jobs, and its config ("quick": overrides)
     report: object = None
-
-
-def _plural(count, noun):
-    return f"{count} {noun}" + ("" if count == 1 else "s")
 
 
 def _label(row, keys, named=()):
@@ -181,7 +182,8 @@ def error_time_report(ctx, records, stages):
                         verdict = f"Cycles is already below it at 1 sample ({t:.3g} s)"
                     else:
                         verdict = f"Cycles does not reach it within {max(c['samples'] for c in cycles)} samples"
-                    lines.append(f"- {scene}, {metric[:-9]}: Bounce {method} at {_plural(r['samples'], 'sample')} has relative "
+                    lines.append(f"- {scene}, {metric[:-9]}: Bounce {method} at "
+                                 f"{report.plural(r['samples'], 'sample')} has relative "
                                  f"RMSE {r[metric]:.3g} in {r['wall_seconds']:.3g} s; {verdict}.")
         ax.set_xscale("log")
         ax.set_yscale("log")
@@ -440,6 +442,13 @@ def topology_report(ctx, records, _stages):
                                "view (sRGB, clamped), in 0..255 units, the paper's measure.")
 
 
+_BUDGET_SCENES = [("cornell", 256, 256), ("sponza", 480, 270), ("two-rooms", 480, 270), ("two-rooms-wall", 480, 270),
+                  (budget.LIT_ROOM, 480, 270), ("sunlit-interior", 480, 270)]
+_QUICK_BUDGET_SCENES = [("cornell", 64, 64)] + [(name, 96, 54) for name, _, _ in _BUDGET_SCENES[1:]]
+# Error over time needs a reference that is not black: not the closed room.
+_TIME_SCENES = [s for s in _BUDGET_SCENES if s[0] not in (budget.CLOSED_ROOM, budget.LIT_ROOM)]
+_QUICK_TIME_SCENES = [s for s in _QUICK_BUDGET_SCENES if s[0] not in (budget.CLOSED_ROOM, budget.LIT_ROOM)]
+
 _DRAGONS = (1, 2, 5, 10, 20, 50, 100)
 _QUICK_DRAGONS = (1, 2, 3)
 
@@ -506,4 +515,15 @@ SUITES = {s.name: s for s in (
                                    "resolutions": [64], "accuracy": {"topology_resolution": 64, "topology_vpls": 256},
                                    "preview": {"width": 128, "height": 64, "vpls": [256], "repeats": 1}}},
           report=topology_report),
+    Suite("budget", "error budget per light path against Cycles (direct, first and second bounce, combined): the "
+          "ratio of means over the image and its thirds and relMSE, per method, a picture of the signed errors, a "
+          "bias check, and the light leaking into a closed room", "DIRECT", _BUDGET_SCENES, _QUICK_BUDGET_SCENES,
+          sets={"samples": [16]}, repeats=1, configs=budget.CONFIGS, reference_bounces=2, reference_per_method=True,
+          cpu_reference=False, report=budget.budget_report),
+    Suite("budget-time", "error against render time per method at 1-64 samples and Cycles at 1-256 samples "
+          "(combined against two bounces); the best method within 1 s and 2 s against Cycles; convergence of "
+          "each method's indirect light", "DIRECT", _TIME_SCENES, _QUICK_TIME_SCENES,
+          sets={"samples": [1, 4, 16, 64]}, quick_sets={"samples": [1, 4]}, repeats=1, configs=budget.CONFIGS,
+          cycles_samples=tuple(2 ** i for i in range(9)), quick_cycles_samples=(1, 2, 4, 8), reference_bounces=2,
+          reference_per_method=True, cpu_reference=False, report=budget.budget_time_report),
 )}

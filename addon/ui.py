@@ -121,7 +121,8 @@ GROUP_NOTES = {
         "the viewport's statistics for which). The other lights add direct light only.",
     "Topology":
         "Renders on the CPU. The first render of a scene precomputes the topology of its empty space (cached by "
-        "geometry and grid settings: moving the camera or a light reuses it). Alpha cut-outs count as opaque.",
+        "geometry and grid settings: moving the camera or a light reuses it). Rays pass through alpha cut-outs; "
+        "the topology counts them as walls. Forward Light Cuts' Indirect Shadows use this grid too.",
 }
 
 

@@ -8,10 +8,15 @@
 #include <utility>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 
 namespace bounce::topology {
 
 namespace {
+
+constexpr std::size_t kMaxGateCells = 1u << 18;  // of a gate's opening: more than a 256^3 grid's section
+constexpr int kPlaneSearchSteps = 4;             // half voxels either side of a gate's neck, at most its ball
+constexpr double kMaxGateReach = 4.0;            // of an opening from its neck, in neck balls
 
 // A unit vector orthogonal to the unit vector n.
 glm::vec3 perpendicular(glm::vec3 n) {
@@ -313,22 +318,24 @@ std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkel
   return gates;
 }
 
-void fit_gates_to_boundaries(const GridShape& shape, const std::vector<uint32_t>& voxel_cluster,
+void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>& voxel_cluster,
                              std::vector<Gate>& gates) {
-  constexpr double kPlaneTolerance = 1.0;  // voxels
+  const GridShape& shape = grid.shape;
   if (gates.empty() || voxel_cluster.size() != shape.padded_count()) return;
   std::map<std::pair<uint32_t, uint32_t>, std::vector<std::size_t>> gates_of_pair;
   for (std::size_t g = 0; g < gates.size(); ++g)
     gates_of_pair[std::minmax(gates[g].clusters[0], gates[g].clusters[1])].push_back(g);
-  // The faces between two clusters' empty voxels, at their centres, each with the nearest gate of its pair.
-  std::vector<std::vector<glm::dvec3>> faces(gates.size());
+  // The boundary surface between the two clusters' voxels, as the sum of its faces' normals (from the gate's first
+  // cluster to its second), each face to the nearest gate of its pair: the opening's orientation, whatever the
+  // voxel steps (a single edge of the skeleton tilts by up to 27 degrees).
+  std::vector<glm::dvec3> orientation(gates.size(), glm::dvec3(0.0));
   const glm::ivec3 padded = shape.padded();
   const std::ptrdiff_t strides[3] = {1, padded.x, std::ptrdiff_t(padded.x) * padded.y};
   for (std::size_t i = 0; i < voxel_cluster.size(); ++i) {
     const uint32_t a = voxel_cluster[i];
     if (a == kNoNode) continue;
     for (int axis = 0; axis < 3; ++axis) {
-      const std::size_t j = i + std::size_t(strides[axis]);  // the padding is solid: never past the end here
+      const std::size_t j = i + std::size_t(strides[axis]);
       if (j >= voxel_cluster.size()) continue;
       const uint32_t b = voxel_cluster[j];
       if (b == kNoNode || b == a) continue;
@@ -339,41 +346,81 @@ void fit_gates_to_boundaries(const GridShape& shape, const std::vector<uint32_t>
       for (std::size_t g : found->second)
         if (glm::distance(face, glm::dvec3(gates[g].centre)) < glm::distance(face, glm::dvec3(gates[nearest].centre)))
           nearest = g;
-      // Only the faces in the gate's plane: past a doorway's neck the boundary between the clusters' voxels
-      // can run along the wall for a few voxels (a voxel takes its nearest node's cluster), and those faces are
-      // no opening.
-      const Gate& gate = gates[nearest];
-      if (std::abs(glm::dot(face - glm::dvec3(gate.centre), glm::dvec3(gate.normal))) <=
-          kPlaneTolerance * shape.voxel_size)
-        faces[nearest].push_back(face);
+      glm::dvec3 normal(0.0);
+      normal[axis] = gates[nearest].clusters[0] == a ? 1.0 : -1.0;
+      orientation[nearest] += normal;
     }
   }
   for (std::size_t g = 0; g < gates.size(); ++g) {
-    if (faces[g].empty()) continue;
     Gate& gate = gates[g];
-    const glm::dvec3 n(gate.normal);
-    glm::dvec3 mean(0.0);
-    for (const glm::dvec3& f : faces[g]) mean += f;
-    mean /= double(faces[g].size());
-    // The faces' spread in the gate's plane: its main axis is the rectangle's first axis.
-    const glm::dvec3 t(perpendicular(gate.normal)), b = glm::cross(n, t);
+    // The opening: the empty voxels of a plane through the neck connected to it within the gate's two clusters,
+    // found cell by cell in the plane (cells a voxel apart). In a doorway the plane runs inside the wall, whose
+    // voxels bound the opening; where a room is split in two, the room's walls bound it, and a window in them
+    // does not let it spread outside (the outside is another cluster). The plane is the narrowest such section near the
+    // neck: facing as the boundary's faces do on the whole, as the skeleton's path, or along a grid axis (the faces are
+    // axis-aligned, and a few of them along the floor tilt their sum), at half-voxel offsets either side of the neck
+    // (which may sit off a wall's layer of voxels). The neck's maximal ball bounds the search: the plane moves no
+    // further than it, and the opening reaches no further than kMaxGateReach of it (a window whose blinds leave only
+    // gaps of voxels would otherwise take the whole wall around it).
+    const double ball = std::max(double(gate.radius), 0.5 * shape.voxel_size);
+    const int steps = std::min(kPlaneSearchSteps, int(2.0 * ball / shape.voxel_size));
+    const double reach = kMaxGateReach * ball / shape.voxel_size;  // in cells
+    const double length = glm::length(orientation[g]);
+    const glm::dvec3 along = length > 0.0 ? orientation[g] / length : glm::dvec3(gate.normal);
+    std::vector<glm::ivec2> cells;
+    glm::dvec3 origin(gate.centre), n(along), t(0.0), w(0.0);
+    for (glm::dvec3 candidate :
+         {along, glm::dvec3(gate.normal), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)}) {
+      if (glm::dot(candidate, along) < 0.0) candidate = -candidate;  // from clusters[0]'s side to clusters[1]'s
+      const glm::dvec3 ct(perpendicular(glm::vec3(candidate))), cw = glm::cross(candidate, ct);
+      for (int step = -steps; step <= steps; ++step) {
+        const glm::dvec3 plane = glm::dvec3(gate.centre) + candidate * (0.5 * step * shape.voxel_size);
+        const auto empty = [&](glm::ivec2 cell) {
+          if (double(cell.x) * cell.x + double(cell.y) * cell.y > reach * reach) return false;
+          const glm::ivec3 v = shape.voxel_at(plane + (double(cell.x) * ct + double(cell.y) * cw) * shape.voxel_size);
+          if (!shape.inside(v) || grid.solid[shape.index(v)]) return false;
+          const uint32_t cluster = voxel_cluster[shape.index(v)];
+          return cluster == gate.clusters[0] || cluster == gate.clusters[1];
+        };
+        if (!empty({0, 0})) continue;
+        std::set<std::pair<int, int>> seen{{0, 0}};
+        std::vector<glm::ivec2> open{{0, 0}}, found;
+        const std::size_t limit = cells.empty() ? kMaxGateCells : cells.size();
+        while (!open.empty() && found.size() < limit) {
+          const glm::ivec2 c = open.back();
+          open.pop_back();
+          found.push_back(c);
+          for (const glm::ivec2 d : {glm::ivec2(1, 0), glm::ivec2(-1, 0), glm::ivec2(0, 1), glm::ivec2(0, -1)})
+            if (seen.insert({c.x + d.x, c.y + d.y}).second && empty(c + d)) open.push_back(c + d);
+        }
+        if (open.empty() && (cells.empty() || found.size() < cells.size())) {
+          cells = std::move(found);
+          origin = plane, n = candidate, t = ct, w = cw;
+        }
+      }
+    }
+    if (cells.empty()) continue;
+    // The rectangle around the cells (each stands for a voxel-sized square), along their main axis.
+    glm::dvec2 mean(0.0);
+    for (const glm::ivec2& c : cells) mean += glm::dvec2(c);
+    mean /= double(cells.size());
     double xx = 0.0, xy = 0.0, yy = 0.0;
-    for (const glm::dvec3& f : faces[g]) {
-      const double x = glm::dot(f - mean, t), y = glm::dot(f - mean, b);
-      xx += x * x, xy += x * y, yy += y * y;
+    for (const glm::ivec2& c : cells) {
+      const glm::dvec2 d = glm::dvec2(c) - mean;
+      xx += d.x * d.x, xy += d.x * d.y, yy += d.y * d.y;
     }
     const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
-    const glm::dvec3 u = std::cos(angle) * t + std::sin(angle) * b, v = glm::cross(n, u);
+    const glm::dvec2 axis(std::cos(angle), std::sin(angle)), other(-axis.y, axis.x);
     double half_u = 0.0, half_v = 0.0;
-    for (const glm::dvec3& f : faces[g]) {
-      half_u = std::max(half_u, std::abs(glm::dot(f - mean, u)));
-      half_v = std::max(half_v, std::abs(glm::dot(f - mean, v)));
+    for (const glm::ivec2& c : cells) {
+      half_u = std::max(half_u, std::abs(glm::dot(glm::dvec2(c) - mean, axis)));
+      half_v = std::max(half_v, std::abs(glm::dot(glm::dvec2(c) - mean, other)));
     }
-    // A face stands for a voxel's side: the rectangle reaches half a voxel beyond the outermost faces' centres.
-    gate.centre = glm::vec3(mean);
-    gate.axis_u = glm::vec3(u);
-    gate.half_u = float(half_u + 0.5 * shape.voxel_size);
-    gate.half_v = float(half_v + 0.5 * shape.voxel_size);
+    gate.centre = glm::vec3(origin + (mean.x * t + mean.y * w) * shape.voxel_size);
+    gate.normal = glm::vec3(n);
+    gate.axis_u = glm::vec3(axis.x * t + axis.y * w);
+    gate.half_u = float((half_u + 0.5) * shape.voxel_size);
+    gate.half_v = float((half_v + 0.5) * shape.voxel_size);
     gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
   }
 }

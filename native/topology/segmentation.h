@@ -73,11 +73,12 @@ std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkel
 std::vector<uint32_t> node_clusters(const Skeleton& skeleton, const SegmentedSkeleton& segmented,
                                     const std::vector<uint32_t>& cluster_of);
 
-// Each gate becomes the rectangle, in its plane, around the faces between empty voxels of its two clusters (each
-// face going to the nearest gate of that pair of clusters), so that light from one cluster reaches the other
-// through the whole opening. voxel_cluster: per padded cell, kNoNode on solid cells. A gate with no such face
-// keeps a square around its disk.
-void fit_gates_to_boundaries(const GridShape& shape, const std::vector<uint32_t>& voxel_cluster,
+// Each gate becomes the rectangle around the opening between its two clusters, so that light from one reaches
+// the other through all of it: its plane faces as the boundary between the clusters' voxels does (the sum of the
+// faces' normals, each face to the nearest gate of its pair of clusters) and passes through the neck; the
+// opening is the empty voxels of that plane connected to the neck within the two clusters (a doorway inside its
+// wall, a room's section where a room is split). voxel_cluster: per padded cell, kNoNode on solid cells.
+void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>& voxel_cluster,
                              std::vector<Gate>& gates);
 
 }  // namespace bounce::topology

@@ -118,7 +118,7 @@ Topology build(std::span<const glm::vec3> soup, const Settings& settings, const 
   t.node_cluster = node_clusters(t.skeleton, t.segmented, t.cluster_of);
   std::vector<uint32_t> voxel_cluster(t.skeleton.voxel_node.size());
   for (std::size_t i = 0; i < voxel_cluster.size(); ++i) voxel_cluster[i] = t.cluster_of_node(t.skeleton.voxel_node[i]);
-  fit_gates_to_boundaries(t.grid.shape, voxel_cluster, t.gates);
+  fit_gates_to_boundaries(t.grid, voxel_cluster, t.gates);
   begin(BuildStage::Count);
   return t;
 }

@@ -33,7 +33,9 @@ Renderer::Renderer() : settings_buffer_(gl::make_buffer(sizeof(BounceSettings), 
 
 bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks) {
   scene_.prepare();
-  if (settings.method == BOUNCE_METHOD_TOPOLOGY) return topology_.render(scene_, settings, camera, callbacks, timer_);
+  const FramePlan plan = plan_frame(settings);
+  if (plan.indirect == FramePlan::Indirect::Topology)
+    return topology_.render(scene_, settings, camera, callbacks, timer_);
   glNamedBufferSubData(settings_buffer_.id(), 0, sizeof settings, &settings);
   glBindBufferBase(GL_UNIFORM_BUFFER, binding::kSettingsBlock, settings_buffer_.id());
   int x0 = camera.crop[0], y0 = camera.crop[1], x1 = camera.crop[2], y1 = camera.crop[3];
@@ -69,11 +71,11 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
         count += compose_.read(aov, samples_done, into.aovs[aov].data(), into.width, tile.x - x0, tile.y - y0);
     return count;
   };
-  const bool flc = settings.method == BOUNCE_METHOD_FLC;
-  const bool ssvp = settings.method == BOUNCE_METHOD_SSVP;
-  const bool traced_direct = settings.shadow_method == BOUNCE_SHADOWS_RAY_TRACED;
-  const bool flc_visibility = flc && settings.flc_visibility;
-  if (traced_direct || flc_visibility) cpu_scene_.sync(scene_);
+  const bool flc = plan.indirect == FramePlan::Indirect::ForwardLightCuts;
+  const bool ssvp = plan.indirect == FramePlan::Indirect::Ssvp;
+  const bool traced_direct = plan.direct == FramePlan::Direct::RayTraced;
+  const bool flc_visibility = flc && plan.indirect_shadows;
+  if (plan.needs_cpu_scene()) cpu_scene_.sync(scene_);
   if (flc_visibility) {
     const uint64_t builds = cpu::topology_builds();
     std::shared_ptr<const topology::Topology> topology;

@@ -12,6 +12,7 @@
 #include "bounce/bounce.h"
 #include "cpu/topology_renderer.h"
 #include "frame.h"
+#include "frame_plan.h"
 #include "gpu_scene.h"
 #include "passes/compose/compose_pass.h"
 #include "passes/direct/direct_pass.h"

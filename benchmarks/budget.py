@@ -23,13 +23,13 @@ PICTURE_COMPONENTS = ("direct", "first", "second", "combined")
 BIAS_RANGE = (0.9, 1.1)
 BUDGETS_S = (1.0, 2.0)
 # Configurations: each a method and its settings (all others at their defaults). FLC with and without its
-# Indirect Shadows (flc_visibility, on by default); the Topology method also with exact shadow rays for its VPLs,
-# which splits its error between the VPLs and its visibility rule. A configuration whose setting the build lacks
-# is skipped and said so.
+# Indirect Shadows (flc_visibility, on by default); the Topology method also with exact shadow rays for its VPLs
+# (a quarter of them, as each costs one ray per pixel), which splits its error between the VPLs and its
+# visibility rule. A configuration whose setting the build lacks is skipped and said so.
 PAPER_FLC = {"method": "FLC", "flc_visibility": False}
 CONFIGS = [{"method": "DIRECT"}, PAPER_FLC, {"method": "FLC", "flc_visibility": True},
            {"method": "SSVP", "bounces": 2}, {"method": "TOPOLOGY", "bounces": 2}, {"method": "TOPOLOGY", "bounces": 1},
-           {"method": "TOPOLOGY", "bounces": 1, "topology_visibility": "SHADOW_RAYS"}]
+           {"method": "TOPOLOGY", "bounces": 1, "topology_visibility": "SHADOW_RAYS", "topology_vpls": 256}]
 # The closed room of two-rooms-wall (its default camera) and the same scene from the lit room.
 CLOSED_ROOM, LIT_ROOM = "two-rooms-wall", "two-rooms-wall:CameraA"
 

@@ -465,5 +465,41 @@ TEST_F(Ssvp, SecondBounceMatchesRayTracedVpls) {
   EXPECT_NEAR(ssvp_second / rays, 1.0, 0.3);
 }
 
+TEST_F(Ssvp, ParaboloidEyeOnALitSurface) {
+  // A sunlit floor with a closed block standing on it: one cluster's mean lies inside the block. A paraboloid map
+  // seen from there hides the whole scene, and the wall the floor lights went black; seen from the member nearest
+  // the mean it matches ray-traced VPLs.
+  add_mesh(1, {-8, -8, 0, 8, -8, 0, 8, 8, 0, -8, 8, 0}, {0, 1, 2, 0, 2, 3});  // floor
+  add_mesh(
+      2, {-2, -2, 0, 2, -2, 0, -2, 2, 0, 2, 2, 0, -2, -2, 2, 2, -2, 2, -2, 2, 2, 2, 2, 2},
+      {4, 5, 7, 4, 7, 6, 0, 2, 3, 0, 3, 1, 0, 1, 5, 0, 5, 4, 3, 2, 6, 3, 6, 7, 2, 0, 4, 2, 4, 6, 1, 3, 7, 1, 7, 5});
+  add_mesh(3, {-8, 6, 0, 8, 6, 0, 8, 6, 4, -8, 6, 4}, {0, 2, 1, 0, 3, 2});  // a wall facing the block, unlit
+  set_instances({1, 2, 3}, {glm::mat4(1.0f), glm::mat4(1.0f), glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(5.0f));
+  const glm::vec3 towards = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f));
+  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards)), y = glm::cross(towards, x);
+  std::memcpy(sun.axis_z, &towards[0], 12);
+  std::memcpy(sun.axis_x, &x[0], 12);
+  std::memcpy(sun.axis_y, &y[0], 12);
+  set_lights({sun});
+  set_camera(glm::lookAt(glm::vec3(0, 2.5f, 1.5f), glm::vec3(0, 6, 1.5f), glm::vec3(0, 0, 1)),
+             glm::perspective(glm::radians(60.0f), 1.0f, 0.05f, 100.0f), 32, 32);
+  settings_.samples = 16;
+  settings_.bounces = 1;
+  settings_.method = BOUNCE_METHOD_TOPOLOGY;
+  settings_.topology_visibility = 1;  // shadow rays
+  settings_.topology_vpls = 8192;
+  settings_.topology_resolution = 64;
+  const double rays = mean_red(render(BOUNCE_AOV_INDIRECT));
+  settings_.method = BOUNCE_METHOD_SSVP;
+  settings_.ssvp_vpls = 1024;
+  settings_.ssvp_clusters = 1;
+  const double ssvp = mean_red(render(BOUNCE_AOV_INDIRECT));
+  std::printf("wall lit by the floor: SSVP %.5f, ray-traced VPLs %.5f (ratio %.3f)\n", ssvp, rays, ssvp / rays);
+  ASSERT_GT(rays, 0.0);
+  EXPECT_NEAR(ssvp / rays, 1.0, 0.3);
+}
+
 }  // namespace
 }  // namespace bounce::test

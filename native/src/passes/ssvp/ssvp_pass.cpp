@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numeric>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -212,11 +213,23 @@ void SsvpPass::cluster(const RenderContext& context) {
                    [&](uint32_t a, uint32_t b) { return clustering.assignment[a] < clustering.assignment[b]; });
   std::vector<GpuVpl> sorted(vpls.size());
   std::vector<GpuCluster> gpu_clusters(clusters_.size());
+  // The paper's prototype sits at the members' mean (Sec. II-B), which it warns "may appear as floating in
+  // space": the mean of VPLs on a floor and on a block's top lies inside the block, and a paraboloid map seen
+  // from there hides everything, dimming the whole cluster's light. The map's eye is instead the member nearest
+  // that mean, a point on a lit surface, lifted off it along its own normal.
+  std::vector<std::size_t> eye_member(clusters_.size(), order.size());
+  std::vector<float> eye_distance(clusters_.size(), std::numeric_limits<float>::infinity());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const uint32_t c = clustering.assignment[i];
+    const glm::vec3 d = points[i].position - clusters_[c].position;
+    if (glm::dot(d, d) < eye_distance[c]) eye_distance[c] = glm::dot(d, d), eye_member[c] = i;
+  }
   uint32_t first = 0;
   for (std::size_t c = 0; c < clusters_.size(); ++c) {
     const ssvp::Cluster& cluster = clusters_[c];
     const glm::vec3 tangent = any_perpendicular(cluster.normal);
-    const glm::vec3 centre = cluster.position + cluster.normal * (kCentreLift * p.length_scale);
+    const ssvp::ClusterPoint& eye = points[eye_member[c]];
+    const glm::vec3 centre = eye.position + eye.normal * (kCentreLift * p.length_scale);
     gpu_clusters[c] = {glm::vec4(centre, static_cast<float>(first)),
                        glm::vec4(cluster.normal, static_cast<float>(cluster.count)), glm::vec4(tangent, 0.0f),
                        glm::vec4(glm::cross(cluster.normal, tangent), 0.0f)};

@@ -12,9 +12,10 @@ struct FramePlan {
   Direct direct = Direct::RayTraced;
   Indirect indirect = Indirect::None;
   bool indirect_shadows = false;  // the topology's clusters and gates shadow Forward Light Cuts' VPLs
+  bool vpl_importance = false;    // SSVP draws its VPLs where shadow rays say their light reaches the view
 
-  // Embree's copy of the scene: for ray-traced direct light and for building the topology.
-  bool needs_cpu_scene() const { return direct == Direct::RayTraced || indirect_shadows; }
+  // Embree's copy of the scene: for ray-traced direct light, building the topology and tracing VPL importance.
+  bool needs_cpu_scene() const { return direct == Direct::RayTraced || indirect_shadows || vpl_importance; }
 };
 
 inline FramePlan plan_frame(const BounceSettings& settings) {
@@ -28,6 +29,7 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
       break;
     case BOUNCE_METHOD_SSVP:
       plan.indirect = FramePlan::Indirect::Ssvp;
+      plan.vpl_importance = settings.ssvp_importance != 0;
       break;
     case BOUNCE_METHOD_TOPOLOGY:
       plan.indirect = FramePlan::Indirect::Topology;

@@ -143,7 +143,7 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
       ComposePass::Indirect indirect;
       if (flc && flc_.active()) indirect = {flc_.indirect(), false, flc_.levels(), 0};
       if (ssvp) {
-        ssvp_.execute(context, gbuffer_, gbuffer_.gbuffer());
+        ssvp_.execute(context, gbuffer_, gbuffer_.gbuffer(), plan.vpl_importance ? &cpu_scene_ : nullptr);
         vpl_count = ssvp_.vpl_count();
         cluster_count = ssvp_.cluster_count();
         main_light = ssvp_.main_light() < 0 ? -1 : static_cast<int>(scene_.light_source_index(ssvp_.main_light()));

@@ -30,6 +30,8 @@ const char* stage_name(Stage stage) {
       return "SSVP RSM";
     case Stage::SsvpCluster:
       return "SSVP sampling + clustering";
+    case Stage::SsvpImportance:
+      return "SSVP VPL importance";
     case Stage::SsvpParaboloids:
       return "SSVP paraboloids";
     case Stage::SsvpShade:

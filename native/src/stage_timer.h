@@ -23,6 +23,7 @@ enum class Stage {
   TopologyVisibility,  // the pixels' visibility clusters (Forward Light Cuts' Indirect Shadows)
   SsvpRsm,             // Screen-Space VPL Propagation: the main light's reflective shadow map
   SsvpCluster,         // first-bounce sampling, k-means, second-bounce propagation (the paper's "Misc")
+  SsvpImportance,      // VPL Importance: probes read back, shadow rays to them, resampling (CPU, Embree)
   SsvpParaboloids,     // one paraboloid map per cluster
   SsvpShade,           // interleaved shading of both bounces, debug view
   SsvpDenoise,         // geometry-aware blur

@@ -501,5 +501,47 @@ TEST_F(Ssvp, ParaboloidEyeOnALitSurface) {
   EXPECT_NEAR(ssvp / rays, 1.0, 0.3);
 }
 
+TEST_F(Ssvp, VplImportanceFindsTheRoomASunShinesInto) {
+  // A closed room on a wide ground, lit only by the sun through a hole in its roof. The sun's reflective shadow
+  // map spans the whole scene, so the paper's evenly spread VPLs put one in 150 into the room, and clusters that
+  // mix them with the ground outside shadow them; VPLs drawn by importance land on the lit patch inside.
+  add_mesh(1, {-6, -6, 0, 6, -6, 0, 6, 6, 0, -6, 6, 0}, {0, 1, 2, 0, 2, 3});  // ground, and the room's floor
+  add_mesh(2, {-2,    -2,    0, 2,    -2,    0, 2,    2,    0, -2,    2,    0,
+               -2,    -2,    3, 2,    -2,    3, 2,    2,    3, -2,    2,    3,               // walls' corners
+               -0.5f, -0.5f, 3, 0.5f, -0.5f, 3, 0.5f, 0.5f, 3, -0.5f, 0.5f, 3},              // the hole's
+           {0, 1, 5, 0, 5, 4, 1, 2, 6,  1, 6,  5, 2, 3, 7,  2, 7,  6,  3, 0, 4, 3, 4, 7,     // walls
+            4, 5, 9, 4, 9, 8, 5, 6, 10, 5, 10, 9, 6, 7, 11, 6, 11, 10, 7, 4, 8, 7, 8, 11});  // roof around the hole
+  set_instances({1, 2}, {glm::mat4(1.0f), glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(5.0f));
+  const glm::vec3 towards = glm::normalize(glm::vec3(0.1f, 0.05f, 1.0f));
+  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards)), y = glm::cross(towards, x);
+  std::memcpy(sun.axis_z, &towards[0], 12);
+  std::memcpy(sun.axis_x, &x[0], 12);
+  std::memcpy(sun.axis_y, &y[0], 12);
+  set_lights({sun});
+  set_camera(glm::lookAt(glm::vec3(0, -1.8f, 1.5f), glm::vec3(0, 2, 1.2f), glm::vec3(0, 0, 1)),
+             glm::perspective(glm::radians(70.0f), 1.0f, 0.05f, 100.0f), 32, 32);
+  settings_.samples = 16;
+  settings_.bounces = 1;
+  settings_.method = BOUNCE_METHOD_TOPOLOGY;
+  settings_.topology_visibility = 1;  // shadow rays
+  settings_.topology_vpls = 4096;
+  settings_.topology_resolution = 64;
+  const double rays = mean_red(render(BOUNCE_AOV_INDIRECT));
+  settings_.method = BOUNCE_METHOD_SSVP;
+  std::vector<double> ssvp;
+  for (int importance : {0, 1}) {
+    settings_.ssvp_importance = importance;
+    ssvp.push_back(mean_red(render(BOUNCE_AOV_INDIRECT)));
+  }
+  std::printf(
+      "room lit through its roof: SSVP %.5f (evenly spread VPLs), %.5f (by importance), ray-traced VPLs "
+      "%.5f\n",
+      ssvp[0], ssvp[1], rays);
+  ASSERT_GT(rays, 0.0);
+  EXPECT_NEAR(ssvp[1] / rays, 1.0, 0.2);
+}
+
 }  // namespace
 }  // namespace bounce::test

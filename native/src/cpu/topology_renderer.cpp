@@ -27,9 +27,6 @@ constexpr std::chrono::milliseconds kProgressivePublishInterval(250);
 constexpr int kDepthSlices = 16;           // clustered shading's exponential depth slices (Olsson et al. 2012)
 constexpr float kBackgroundDepth = 1e10f;  // Blender's Depth pass value where nothing is hit
 enum Purpose : uint64_t { kDirectLight = 21, kVplResampling = 22, kVplSample = 23 };
-constexpr int kCandidatesPerVpl = 8;   // candidate VPLs traced per VPL kept
-constexpr float kUniformShare = 0.1f;  // of the resampling, so no candidate is left out (defensive mixture)
-constexpr int kProbesPerAxis = 8;      // view samples the importance is measured at: a grid of 8 x 8
 
 // ---- View samples -----------------------------------------------------------------------------------------
 

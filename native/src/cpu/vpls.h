@@ -42,6 +42,11 @@ struct Draw {
 };
 std::vector<Draw> resample(std::span<const float> importance, int count, float uniform_share, float u);
 
+// How the methods that draw VPLs by importance (Topology, SSVP) resample them.
+constexpr int kCandidatesPerVpl = 8;   // candidate VPLs per VPL kept
+constexpr float kUniformShare = 0.1f;  // of the resampling, so no candidate is left out (defensive mixture)
+constexpr int kProbesPerAxis = 8;      // view samples the importance is measured at: a grid of 8 x 8
+
 // The radiant power a light emits (W per channel), as the renderer lights with it: a sun's through the disk
 // of radius `scene_radius` facing it.
 glm::vec3 light_power(const BounceLight& light, float scene_radius);

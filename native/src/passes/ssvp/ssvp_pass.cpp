@@ -8,6 +8,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "common/parallel.h"
+#include "cpu/vpls.h"
 #include "error.h"
 #include "gl/shader.h"
 #include "passes/direct/direct_pass.h"
@@ -27,7 +29,7 @@ constexpr GLuint kParaboloidPositionUnit = 13;
 constexpr GLuint kParaboloidNormalUnit = 14;
 constexpr GLuint kParaboloidAlbedoUnit = 15;
 constexpr int kMinSecondPerCluster = 32;  // Sec. III-D
-constexpr float kCentreLift = 1e-3f;      // a paraboloid map's centre off its surface, per unit of scene size
+constexpr float kCentreLift = 1e-3f;      // a paraboloid map's eye off its surface, per unit of scene size
 constexpr double kParaboloidMemoryBudget = 512.0 * 1024.0 * 1024.0;
 constexpr int kParaboloidBytesPerTexel = 16 + 8 + 8 + 4;
 
@@ -37,6 +39,68 @@ struct GpuVpl {
 struct GpuCluster {
   glm::vec4 position_first, normal_count, tangent, bitangent;
 };
+
+struct Probe {
+  glm::vec3 position, normal, albedo;
+};
+
+// VPL Importance's view samples: one jittered pixel in each cell of a grid over the camera's G-buffer.
+std::vector<Probe> read_probes(const GBuffer& camera, uint32_t seed) {
+  std::vector<Probe> probes;
+  const auto texel = [](const gl::Texture& texture, int x, int y) {
+    glm::vec4 value(0.0f);
+    glGetTextureSubImage(texture.id(), 0, x, y, 0, 1, 1, 1, GL_RGBA, GL_FLOAT, sizeof value, &value[0]);
+    return value;
+  };
+  const int cells = cpu::kProbesPerAxis;
+  for (int cell = 0; cell < cells * cells; ++cell) {
+    const uint32_t key = hash_combine(seed, static_cast<uint32_t>(cell));
+    const int x = std::min(camera.width - 1, int((cell % cells + hash_to_unit(key)) * camera.width / cells));
+    const int y =
+        std::min(camera.height - 1, int((cell / cells + hash_to_unit(key ^ 0x9e37u)) * camera.height / cells));
+    const glm::vec4 albedo = texel(camera.albedo, x, y);
+    const glm::vec3 normal(texel(camera.normal, x, y));
+    if (albedo.a == 0.0f || !(glm::dot(normal, normal) > 0.0f)) continue;
+    probes.push_back({glm::vec3(texel(camera.position, x, y)), glm::normalize(normal), glm::vec3(albedo)});
+  }
+  gl::check("reading the VPL importance probes");
+  return probes;
+}
+
+// Resampled importance (Talbot et al. 2005; cpu::resample): a candidate's importance is the light it gives the
+// probes, each behind a shadow ray, so the VPLs kept go where their light reaches what the camera sees. A kept
+// VPL's flux grows by its draw's weight and its area does not: the light it gives is then its candidate's
+// (capped by vpl_irradiance in ssvp_common.glsl at the candidate's exitance) times the weight. Unlike the
+// Topology method's, the draw has no defensive share: a candidate that reaches no probe is left out. Kept, it
+// would carry m / (share x count) times a VPL's flux (80 times), and clustered visibility, which tests it from
+// its cluster's eye, lets it through walls: a sunlit room came out 2-3 times too bright. Left out, only light
+// that no probe sees is lost; the probes move every sample.
+std::vector<GpuVpl> draw_by_importance(std::span<const GpuVpl> candidates, int wanted, std::span<const Probe> probes,
+                                       const cpu::CpuScene& scene, float clamp, float u) {
+  const float offset = 2e-4f * std::max(scene.radius(), 1e-30f);
+  std::vector<float> importance(candidates.size(), 0.0f);
+  parallel_for(candidates.size(), 0, 16, [&](std::size_t i) {
+    const cpu::Vpl vpl{glm::vec3(candidates[i].position_cluster), glm::vec3(candidates[i].normal),
+                       glm::vec3(candidates[i].flux)};
+    double sum = 0.0;
+    for (const Probe& probe : probes) {
+      const glm::vec3 light = probe.albedo * cpu::vpl_irradiance(vpl, probe.position, probe.normal, clamp);
+      if (!(light.r + light.g + light.b > 0.0f)) continue;
+      const glm::vec3 from = vpl.position + vpl.normal * offset, to = probe.position + probe.normal * offset;
+      const float distance = glm::length(to - from);
+      if (distance > 0.0f && scene.occluded(from, (to - from) / distance, 0.0f, distance)) continue;
+      sum += double(light.r + light.g + light.b);
+    }
+    importance[i] = float(sum);
+  });
+  std::vector<GpuVpl> kept;
+  for (const cpu::Draw& draw : cpu::resample(importance, wanted, /*uniform_share=*/0.0f, u)) {
+    GpuVpl vpl = candidates[draw.index];
+    vpl.flux = glm::vec4(glm::vec3(vpl.flux) * draw.weight, vpl.flux.w);
+    kept.push_back(vpl);
+  }
+  return kept;
+}
 
 }  // namespace
 
@@ -59,7 +123,8 @@ SsvpPass::SsvpPass()
   gl::check("creating the SSVP pass");
 }
 
-void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers, const GBuffer& camera) {
+void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers, const GBuffer& camera,
+                       const cpu::CpuScene* traced) {
   first_count_ = second_count_ = 0;
   main_light_ = -1;
   clusters_.clear();
@@ -74,7 +139,8 @@ void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers
 
   SsvpParams& p = params_;
   p = {};
-  p.first_count = std::clamp(s.ssvp_vpls, 1, 1 << 16);
+  first_wanted_ = std::clamp(s.ssvp_vpls, 1, 1 << 16);
+  p.first_count = traced ? first_wanted_ * cpu::kCandidatesPerVpl : first_wanted_;
   p.tiles_per_axis = 1 << std::clamp(s.ssvp_tiling, 0, 4);
   p.epsilon = s.ssvp_distance_clamp * scene_radius;
   p.length_scale = 2.0f * scene_radius;
@@ -88,7 +154,7 @@ void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers
 
   render_rsm(context, gbuffers, light);
   sample_first_bounce(context, light);
-  cluster(context);
+  cluster(context, camera, traced);
   if (clusters_.empty()) {
     first_count_ = 0;
     return;
@@ -182,19 +248,26 @@ void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLig
   gl::check("sampling the first-bounce VPLs");
 }
 
-void SsvpPass::cluster(const RenderContext& context) {
-  StageScope scope(context.timer, Stage::SsvpCluster);
+void SsvpPass::cluster(const RenderContext& context, const GBuffer& camera, const cpu::CpuScene* traced) {
   SsvpParams& p = params_;
-  std::vector<GpuVpl> sampled(static_cast<std::size_t>(p.first_count));
-  glGetNamedBufferSubData(first_vpls_.id(), 0, static_cast<GLsizeiptr>(sampled.size() * sizeof(GpuVpl)),
-                          sampled.data());
   std::vector<GpuVpl> vpls;
-  std::vector<ssvp::ClusterPoint> points;
-  for (const GpuVpl& v : sampled) {
-    if (v.flux.w == 0.0f || !(v.flux.r + v.flux.g + v.flux.b > 0.0f)) continue;
-    vpls.push_back(v);
-    points.push_back({glm::vec3(v.position_cluster), glm::vec3(v.normal)});
+  {
+    StageScope scope(context.timer, Stage::SsvpCluster);
+    std::vector<GpuVpl> sampled(static_cast<std::size_t>(p.first_count));
+    glGetNamedBufferSubData(first_vpls_.id(), 0, static_cast<GLsizeiptr>(sampled.size() * sizeof(GpuVpl)),
+                            sampled.data());
+    for (const GpuVpl& v : sampled)
+      if (v.flux.w != 0.0f && v.flux.r + v.flux.g + v.flux.b > 0.0f) vpls.push_back(v);
   }
+  if (traced && traced->triangle_count() > 0) {
+    StageScope scope(context.timer, Stage::SsvpImportance);
+    const uint32_t key = hash_combine(context.seed, context.sample ^ 0x494d5054u);
+    vpls = draw_by_importance(vpls, first_wanted_, read_probes(camera, key), *traced, p.epsilon,
+                              hash_to_unit(hash_combine(key, 1u)));
+  }
+  StageScope scope(context.timer, Stage::SsvpCluster);
+  std::vector<ssvp::ClusterPoint> points;
+  for (const GpuVpl& v : vpls) points.push_back({glm::vec3(v.position_cluster), glm::vec3(v.normal)});
   const ssvp::ClusterMetric metric{p.w1, p.w2, p.length_scale};
   const std::span<const ssvp::Cluster> seeds = context.settings.ssvp_temporal_seeding
                                                    ? std::span<const ssvp::Cluster>(previous_clusters_)
@@ -216,7 +289,9 @@ void SsvpPass::cluster(const RenderContext& context) {
   // The paper's prototype sits at the members' mean (Sec. II-B), which it warns "may appear as floating in
   // space": the mean of VPLs on a floor and on a block's top lies inside the block, and a paraboloid map seen
   // from there hides everything, dimming the whole cluster's light. The map's eye is instead the member nearest
-  // that mean, a point on a lit surface, lifted off it along its own normal.
+  // that mean, a point on a lit surface, lifted off it along its own normal, which is also the map's axis: about
+  // the members' mean normal, the eye's own surface would rise above the map's horizon and, seen at grazing
+  // angles, hide the receivers on it (a third of a wall's light in Ssvp.ParaboloidEyeOnALitSurface).
   std::vector<std::size_t> eye_member(clusters_.size(), order.size());
   std::vector<float> eye_distance(clusters_.size(), std::numeric_limits<float>::infinity());
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -227,12 +302,12 @@ void SsvpPass::cluster(const RenderContext& context) {
   uint32_t first = 0;
   for (std::size_t c = 0; c < clusters_.size(); ++c) {
     const ssvp::Cluster& cluster = clusters_[c];
-    const glm::vec3 tangent = any_perpendicular(cluster.normal);
     const ssvp::ClusterPoint& eye = points[eye_member[c]];
+    const glm::vec3 tangent = any_perpendicular(eye.normal);
     const glm::vec3 centre = eye.position + eye.normal * (kCentreLift * p.length_scale);
     gpu_clusters[c] = {glm::vec4(centre, static_cast<float>(first)),
-                       glm::vec4(cluster.normal, static_cast<float>(cluster.count)), glm::vec4(tangent, 0.0f),
-                       glm::vec4(glm::cross(cluster.normal, tangent), 0.0f)};
+                       glm::vec4(eye.normal, static_cast<float>(cluster.count)), glm::vec4(tangent, 0.0f),
+                       glm::vec4(glm::cross(eye.normal, tangent), 0.0f)};
     first += cluster.count;
   }
   for (std::size_t i = 0; i < order.size(); ++i) {

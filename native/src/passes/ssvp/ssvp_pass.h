@@ -8,10 +8,14 @@
 //                  the light and the geometry are unchanged.
 //   sample       - first-bounce VPLs at the texels of a 2-D Hammersley set (Eq. 1), each carrying its texel's
 //                  reflected flux: albedo x irradiance x the surface area the texel sees, times texels / VPLs.
+//                  With VPL Importance (not in the paper), 8 times as many candidates, of which the VPLs kept
+//                  are resampled on the CPU in proportion to the light they give an 8 x 8 grid of the camera's
+//                  pixels, shadow rays included (Embree; as the Topology method draws its VPLs: cpu/vpls.h).
 //   cluster      - the VPLs are read back and clustered on the CPU by k-means under Eq. 2 (as intended: see
 //                  shaders/ssvp/ssvp_shared.glsl), seeded with the previous frame's clusters (Sec. III-C).
-//   paraboloids  - per cluster, a paraboloid map of the hemisphere around its normal (Heidrich and Seidel 1998)
-//                  from its mean position (lifted off its surface by 0.1 % of the scene's size), drawn through the
+//   paraboloids  - per cluster, a paraboloid map of a hemisphere (Heidrich and Seidel 1998) seen from the
+//                  member nearest the cluster's mean (the mean itself may lie inside a solid, Sec. II-B), about
+//                  that member's normal and lifted off its surface by 0.1 % of the scene's size, drawn through the
 //                  tessellator so that wide triangles bend as they should; each texel's depth is its own
 //                  direction's hit on the triangle's plane, so the pieces can stay coarse.
 //   propagate    - second-bounce VPLs (Sec. II-B) at uniform unit-disk points of each cluster's map, each
@@ -29,6 +33,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "cpu/cpu_scene.h"
 #include "gl/objects.h"
 #include "passes/blur/geometry_blur.h"
 #include "passes/gbuffer/gbuffer_pass.h"
@@ -53,7 +58,9 @@ struct SsvpParams {
 class SsvpPass {
  public:
   SsvpPass();
-  void execute(const RenderContext& context, const GBufferPass& gbuffers, const GBuffer& camera);
+  // `traced`: Embree's copy of the scene when the frame plan draws the VPLs by importance, else null.
+  void execute(const RenderContext& context, const GBufferPass& gbuffers, const GBuffer& camera,
+               const cpu::CpuScene* traced);
 
   bool active() const { return first_count_ > 0; }
   GLuint indirect() const { return total_; }    // RGBA32F irradiance / pi, both bounces
@@ -75,7 +82,7 @@ class SsvpPass {
 
   void render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light);
   void sample_first_bounce(const RenderContext& context, const BounceLight& light);
-  void cluster(const RenderContext& context);
+  void cluster(const RenderContext& context, const GBuffer& camera, const cpu::CpuScene* traced);
   void render_paraboloids(const RenderContext& context);
   void propagate(const RenderContext& context);
   void shade(const RenderContext& context, const GBuffer& camera);
@@ -101,6 +108,7 @@ class SsvpPass {
   std::vector<glm::vec2> disk_points_;
   std::vector<ssvp::Cluster> clusters_, previous_clusters_;
   uint32_t first_count_ = 0, second_count_ = 0;
+  int first_wanted_ = 0;  // first-bounce VPLs kept; the sample pass makes more candidates with VPL Importance
   int main_light_ = -1;
   float max_tess_level_ = 64.0f;
 };

@@ -93,7 +93,10 @@ std::vector<GpuVpl> draw_by_importance(std::span<const GpuVpl> candidates, int w
     }
     importance[i] = float(sum);
   });
+  // When no candidate reaches a probe (a room the main light's first bounce cannot enter), none is kept: the
+  // same rule, where cpu::resample would fall back to drawing them all alike.
   std::vector<GpuVpl> kept;
+  if (std::none_of(importance.begin(), importance.end(), [](float value) { return value > 0.0f; })) return kept;
   for (const cpu::Draw& draw : cpu::resample(importance, wanted, /*uniform_share=*/0.0f, u)) {
     GpuVpl vpl = candidates[draw.index];
     vpl.flux = glm::vec4(glm::vec3(vpl.flux) * draw.weight, vpl.flux.w);

@@ -105,6 +105,35 @@ std::vector<GpuVpl> draw_by_importance(std::span<const GpuVpl> candidates, int w
   return kept;
 }
 
+// Clustered visibility tests a member's light from its cluster's eye, so a member that cannot see that eye (on the
+// other side of a wall) lights what the eye sees, through the wall. Such a member joins the cluster nearest it
+// under Eq. 2 whose eye it sees (Embree shadow rays); one that sees no eye stays.
+void keep_eyes_in_sight(std::span<const ssvp::ClusterPoint> points, std::span<const ssvp::Cluster> clusters,
+                        std::span<const glm::vec3> eyes, const ssvp::ClusterMetric& metric, const cpu::CpuScene& scene,
+                        std::vector<uint32_t>& assignment) {
+  const float offset = 2e-4f * std::max(scene.radius(), 1e-30f);
+  const auto sees = [&](std::size_t i, std::size_t c) {
+    const glm::vec3 from = points[i].position + points[i].normal * offset, to_eye = eyes[c] - from;
+    const float distance = glm::length(to_eye);
+    return !(distance > 0.0f) || !scene.occluded(from, to_eye / distance, 0.0f, distance);
+  };
+  parallel_for(points.size(), 0, 16, [&](std::size_t i) {
+    if (sees(i, assignment[i])) return;
+    std::vector<std::pair<float, uint32_t>> others;
+    for (uint32_t c = 0; c < eyes.size(); ++c)
+      if (c != assignment[i])
+        others.emplace_back(ssvp::ssvp_cluster_distance(points[i].position, points[i].normal, clusters[c].position,
+                                                        clusters[c].normal, metric.w1, metric.w2, metric.length_scale),
+                            c);
+    std::sort(others.begin(), others.end());
+    for (const auto& [distance, c] : others)
+      if (sees(i, c)) {
+        assignment[i] = c;
+        return;
+      }
+  });
+}
+
 }  // namespace
 
 SsvpPass::SsvpPass()
@@ -281,41 +310,45 @@ void SsvpPass::cluster(const RenderContext& context, const GBuffer& camera, cons
   if (clusters_.empty()) return;
   previous_clusters_ = clusters_;
 
-  // Members sorted by cluster, so a cluster's members are a range (the propagation sums over them); the
-  // interleaved shading takes every T^2-th VPL of this order, which spreads every cluster over the tiles.
-  std::vector<uint32_t> order(vpls.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](uint32_t a, uint32_t b) { return clustering.assignment[a] < clustering.assignment[b]; });
-  std::vector<GpuVpl> sorted(vpls.size());
-  std::vector<GpuCluster> gpu_clusters(clusters_.size());
   // The paper's prototype sits at the members' mean (Sec. II-B), which it warns "may appear as floating in
   // space": the mean of VPLs on a floor and on a block's top lies inside the block, and a paraboloid map seen
   // from there hides everything, dimming the whole cluster's light. The map's eye is instead the member nearest
   // that mean, a point on a lit surface, lifted off it along its own normal, which is also the map's axis: about
   // the members' mean normal, the eye's own surface would rise above the map's horizon and, seen at grazing
   // angles, hide the receivers on it (a third of a wall's light in Ssvp.ParaboloidEyeOnALitSurface).
-  std::vector<std::size_t> eye_member(clusters_.size(), order.size());
+  std::vector<std::size_t> eye_member(clusters_.size(), points.size());
   std::vector<float> eye_distance(clusters_.size(), std::numeric_limits<float>::infinity());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const uint32_t c = clustering.assignment[i];
     const glm::vec3 d = points[i].position - clusters_[c].position;
     if (glm::dot(d, d) < eye_distance[c]) eye_distance[c] = glm::dot(d, d), eye_member[c] = i;
   }
+  std::vector<glm::vec3> eyes(clusters_.size());
+  for (std::size_t c = 0; c < clusters_.size(); ++c)
+    eyes[c] = points[eye_member[c]].position + points[eye_member[c]].normal * (kCentreLift * p.length_scale);
+  std::vector<uint32_t> assignment = clustering.assignment;
+  if (traced && traced->triangle_count() > 0) keep_eyes_in_sight(points, clusters_, eyes, metric, *traced, assignment);
+
+  // Members sorted by cluster, so a cluster's members are a range (the propagation sums over them); the
+  // interleaved shading takes every T^2-th VPL of this order, which spreads every cluster over the tiles.
+  std::vector<uint32_t> order(vpls.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return assignment[a] < assignment[b]; });
+  for (ssvp::Cluster& cluster : clusters_) cluster.count = 0;
+  for (uint32_t c : assignment) ++clusters_[c].count;
+  std::vector<GpuVpl> sorted(vpls.size());
+  std::vector<GpuCluster> gpu_clusters(clusters_.size());
   uint32_t first = 0;
   for (std::size_t c = 0; c < clusters_.size(); ++c) {
-    const ssvp::Cluster& cluster = clusters_[c];
-    const ssvp::ClusterPoint& eye = points[eye_member[c]];
-    const glm::vec3 tangent = any_perpendicular(eye.normal);
-    const glm::vec3 centre = eye.position + eye.normal * (kCentreLift * p.length_scale);
-    gpu_clusters[c] = {glm::vec4(centre, static_cast<float>(first)),
-                       glm::vec4(eye.normal, static_cast<float>(cluster.count)), glm::vec4(tangent, 0.0f),
-                       glm::vec4(glm::cross(eye.normal, tangent), 0.0f)};
-    first += cluster.count;
+    const glm::vec3 axis = points[eye_member[c]].normal, tangent = any_perpendicular(axis);
+    gpu_clusters[c] = {glm::vec4(eyes[c], static_cast<float>(first)),
+                       glm::vec4(axis, static_cast<float>(clusters_[c].count)), glm::vec4(tangent, 0.0f),
+                       glm::vec4(glm::cross(axis, tangent), 0.0f)};
+    first += clusters_[c].count;
   }
   for (std::size_t i = 0; i < order.size(); ++i) {
     sorted[i] = vpls[order[i]];
-    sorted[i].position_cluster.w = static_cast<float>(clustering.assignment[order[i]]);
+    sorted[i].position_cluster.w = static_cast<float>(assignment[order[i]]);
   }
   first_count_ = static_cast<uint32_t>(sorted.size());
   p.first_count = static_cast<int32_t>(first_count_);

@@ -224,5 +224,23 @@ TEST_F(TopologyRender, SunThroughAWindowConvergesOverSamples) {
   EXPECT_LT(many, 0.25 * one);  // 1 / 16 in the limit; rare VPLs next to a surface slow it
 }
 
+TEST_F(TopologyRender, ClosedRoomGetsNoIndirectLight) {
+  // Two rooms split by a solid wall, the light in the first, the camera in the second: nothing reaches it. View
+  // samples the grid counts as solid (along the room's edges) have no cluster; lit by every VPL, as they once
+  // were, they glowed with the first room's light.
+  add_soup(1, two_closed_rooms().vertices);
+  set_instances({1}, {glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(4.0f, 5.0f, 3.0f), glm::vec3(200.0f))});
+  const glm::mat4 view = glm::lookAt(glm::vec3(19.5f, 9.5f, 3.5f), glm::vec3(10.0f, 0.0f, 0.0f), glm::vec3(0, 0, 1));
+  set_camera(view, glm::perspective(glm::radians(90.0f), 2.0f, 0.05f, 100.0f), 64, 32);
+  settings_.samples = 4;
+  for (int bounces : {1, 2}) {
+    settings_.bounces = bounces;
+    EXPECT_TRUE(all_finite(render()));
+    EXPECT_EQ(mean_red(read(BOUNCE_AOV_INDIRECT)), 0.0) << bounces;
+  }
+}
+
 }  // namespace
 }  // namespace bounce::test

@@ -55,7 +55,7 @@ bool in_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 x) {
 
 // Whether the method lets a VPL at p in cluster `from` light x in cluster `to`: its own cluster without a test,
 // another only inside the cone through one of its cluster's gates (Fig. 11); a view sample outside every
-// cluster has no visibility information and takes every light.
+// cluster has no visibility information and counts every light here (the shading casts it a shadow ray).
 bool reaches(const topology::Topology& topo, const std::vector<std::vector<uint32_t>>& gates_of, uint32_t from,
              glm::vec3 p, uint32_t to, glm::vec3 x) {
   if (from == kNoNode) return false;
@@ -91,8 +91,12 @@ glm::vec3 cluster_colour(uint32_t cluster) {
 
 struct Assignment {
   uint32_t vpl;
-  uint32_t gate;  // kNoNode: same cluster, no test
+  uint32_t gate;  // kNoNode: same cluster, no test; kShadowRay: a shadow ray decides
 };
+// The gate of an assignment to view samples outside every cluster (outside the grid, or in a voxel the grid
+// counts as solid): the topology says nothing of their visibility, and lighting them with every light let a
+// closed room's edges glow with the light of the room beside it.
+constexpr uint32_t kShadowRay = kNoNode - 1;
 
 // A sphere or a gate (a rectangle) of the Topology pass, drawn where the primary ray meets it before the surface.
 struct Glyph {
@@ -434,10 +438,8 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
         for (std::size_t l = 0; l < vpls_.size(); ++l) {
           const uint32_t vpl_cluster = vpl_cluster_[l];
           if (vpl_cluster == kNoNode) continue;  // walled in: it lights nothing
-          // A view sample outside every cluster (outside the grid, or walled in) has no visibility information:
-          // it takes every light, as without indirect shadows.
           if (cluster == kNoNode || vpl_cluster == cluster) {
-            assigned[g].push_back({uint32_t(l), kNoNode});
+            assigned[g].push_back({uint32_t(l), cluster == kNoNode ? kShadowRay : kNoNode});
             continue;
           }
           for (uint32_t gate : gates_of[vpl_cluster])
@@ -459,12 +461,20 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
             irradiance += e;
             if (vpl.bounce == 2) second_irradiance += e;
           };
+          const auto blocked = [&](const Vpl& vpl) {
+            const glm::vec3 from = x + v.surface.normal * offset, to = vpl.position + vpl.normal * offset;
+            const float distance = glm::length(to - from);
+            return distance > offset && scene_.occluded(from, (to - from) / distance, 0.0f, distance - offset);
+          };
           if (clusters_and_gates) {
             if (group_of[i] == kNoNode) continue;
             uint32_t counted = kNoNode;  // a light listed with several gates lights a sample once
             for (const Assignment& a : assigned[group_of[i]]) {
               if (a.vpl == counted) continue;
-              if (a.gate != kNoNode && !in_gate_cone(vpls_[a.vpl].position, topo.gates[a.gate], x)) continue;
+              if (a.gate == kShadowRay
+                      ? blocked(vpls_[a.vpl])
+                      : a.gate != kNoNode && !in_gate_cone(vpls_[a.vpl].position, topo.gates[a.gate], x))
+                continue;
               add(vpls_[a.vpl], vpl_irradiance(vpls_[a.vpl], x, n, clamp));
               counted = a.vpl;
             }
@@ -473,12 +483,7 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
             for (const Vpl& vpl : vpls_) {
               const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
               if (!(e.r + e.g + e.b > 0.0f)) continue;
-              if (shadow_rays) {
-                const glm::vec3 from = x + v.surface.normal * offset, to = vpl.position + vpl.normal * offset;
-                const float distance = glm::length(to - from);
-                if (distance > offset && scene_.occluded(from, (to - from) / distance, 0.0f, distance - offset))
-                  continue;
-              }
+              if (shadow_rays && blocked(vpl)) continue;
               add(vpl, e);
             }
           }

@@ -471,12 +471,14 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
             uint32_t counted = kNoNode;  // a light listed with several gates lights a sample once
             for (const Assignment& a : assigned[group_of[i]]) {
               if (a.vpl == counted) continue;
-              if (a.gate == kShadowRay
-                      ? blocked(vpls_[a.vpl])
-                      : a.gate != kNoNode && !in_gate_cone(vpls_[a.vpl].position, topo.gates[a.gate], x))
+              if (a.gate != kNoNode && a.gate != kShadowRay &&
+                  !in_gate_cone(vpls_[a.vpl].position, topo.gates[a.gate], x))
                 continue;
-              add(vpls_[a.vpl], vpl_irradiance(vpls_[a.vpl], x, n, clamp));
               counted = a.vpl;
+              const glm::vec3 e = vpl_irradiance(vpls_[a.vpl], x, n, clamp);
+              // The shadow ray last: most VPLs face away from a given sample.
+              if (!(e.r + e.g + e.b > 0.0f) || (a.gate == kShadowRay && blocked(vpls_[a.vpl]))) continue;
+              add(vpls_[a.vpl], e);
             }
           } else {
             const bool shadow_rays = settings.topology_visibility == 1;

@@ -263,7 +263,7 @@ def budget_time_report(ctx, records, _stages):
     lines = _skipped_lines(ctx)
     plt = report.pyplot()
     scenes = _scenes(rows)
-    fig, axes = plt.subplots(2, len(scenes), figsize=(5.5 * len(scenes), 8.4), squeeze=False)
+    fig, axes = plt.subplots(2, len(scenes), figsize=(5.5 * len(scenes), 15.0), squeeze=False)
     colours = {config: f"C{i}" for i, config in enumerate(dict.fromkeys(r["config"] for r in rows
                                                                         if r["config"] != "Cycles"))}
     for column, scene in enumerate(scenes):
@@ -304,7 +304,7 @@ def budget_time_report(ctx, records, _stages):
                              "the most samples)", fontsize=9)
         for ax in (time_ax, samples_ax):
             ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=7)
+            ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.14))  # below: the curves stay clear
     report.save(fig, ctx.out / f"{ctx.suite.name}.png", ctx.title)
     return "\n".join(lines) + _TIME_NOTE
 

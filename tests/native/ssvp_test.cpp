@@ -260,6 +260,27 @@ class Ssvp : public RenderFixture {
     const glm::mat4 view = glm::lookAt(glm::vec3(0, -2.2f * size, 0), glm::vec3(0), glm::vec3(0, 0, 1));
     set_camera(view, glm::perspective(glm::radians(40.0f), 1.0f, 0.01f * size, 10.0f * size), 32, 32);
   }
+  // The only light: a sun of 5 W/m^2 in the direction `towards` (from the scene towards the sun).
+  void set_sun(glm::vec3 towards) {
+    BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(5.0f));
+    towards = glm::normalize(towards);
+    const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards)), y = glm::cross(towards, x);
+    std::memcpy(sun.axis_z, &towards[0], 12);
+    std::memcpy(sun.axis_x, &x[0], 12);
+    std::memcpy(sun.axis_y, &y[0], 12);
+    set_lights({sun});
+  }
+  // The reference for SSVP's bounces: the mean of `aov` rendered by the Topology method with exact shadow rays
+  // for `vpls` VPLs. Leaves the method at SSVP.
+  double ray_traced_vpls(int vpls, int aov) {
+    settings_.method = BOUNCE_METHOD_TOPOLOGY;
+    settings_.topology_visibility = 1;  // shadow rays
+    settings_.topology_vpls = vpls;
+    settings_.topology_resolution = 64;
+    render(BOUNCE_AOV_INDIRECT);
+    settings_.method = BOUNCE_METHOD_SSVP;
+    return mean_red(read(aov));
+  }
   BounceFrameInfo info() {
     BounceFrameInfo out{};
     EXPECT_EQ(bounce_frame_info(engine_, &out), BOUNCE_OK);
@@ -436,24 +457,12 @@ TEST_F(Ssvp, SecondBounceMatchesRayTracedVpls) {
   add_mesh(2, {-5, -5, 3, -1, -5, 3, -1, 5, 3, -5, 5, 3}, {0, 1, 2, 0, 2, 3});  // roof
   set_instances({1, 2}, {glm::mat4(1.0f), glm::mat4(1.0f)});
   set_albedo(0.8f);
-  BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(5.0f));
-  const glm::vec3 towards = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f));
-  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards)), y = glm::cross(towards, x);
-  std::memcpy(sun.axis_z, &towards[0], 12);
-  std::memcpy(sun.axis_x, &x[0], 12);
-  std::memcpy(sun.axis_y, &y[0], 12);
-  set_lights({sun});
+  set_sun(glm::vec3(0.3f, 0.2f, 1.0f));
   set_camera(glm::lookAt(glm::vec3(-3, -9, 1.5f), glm::vec3(-3, 0, 1.2f), glm::vec3(0, 0, 1)),
              glm::perspective(glm::radians(50.0f), 1.0f, 0.05f, 100.0f), 32, 32);
   settings_.samples = 16;
   settings_.bounces = 2;
-  settings_.method = BOUNCE_METHOD_TOPOLOGY;
-  settings_.topology_visibility = 1;  // shadow rays
-  settings_.topology_vpls = 8192;
-  settings_.topology_resolution = 64;
-  render(BOUNCE_AOV_INDIRECT);
-  const double rays = mean_red(read(BOUNCE_AOV_SECOND_BOUNCE));
-  settings_.method = BOUNCE_METHOD_SSVP;
+  const double rays = ray_traced_vpls(8192, BOUNCE_AOV_SECOND_BOUNCE);
   settings_.ssvp_vpls = 1024;
   settings_.ssvp_second_vpls = 4096;
   settings_.ssvp_clusters = 1;
@@ -476,23 +485,12 @@ TEST_F(Ssvp, ParaboloidEyeOnALitSurface) {
   add_mesh(3, {-8, 6, 0, 8, 6, 0, 8, 6, 4, -8, 6, 4}, {0, 2, 1, 0, 3, 2});  // a wall facing the block, unlit
   set_instances({1, 2, 3}, {glm::mat4(1.0f), glm::mat4(1.0f), glm::mat4(1.0f)});
   set_albedo(0.8f);
-  BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(5.0f));
-  const glm::vec3 towards = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f));
-  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards)), y = glm::cross(towards, x);
-  std::memcpy(sun.axis_z, &towards[0], 12);
-  std::memcpy(sun.axis_x, &x[0], 12);
-  std::memcpy(sun.axis_y, &y[0], 12);
-  set_lights({sun});
+  set_sun(glm::vec3(0.3f, 0.2f, 1.0f));
   set_camera(glm::lookAt(glm::vec3(0, 2.5f, 1.5f), glm::vec3(0, 6, 1.5f), glm::vec3(0, 0, 1)),
              glm::perspective(glm::radians(60.0f), 1.0f, 0.05f, 100.0f), 32, 32);
   settings_.samples = 16;
   settings_.bounces = 1;
-  settings_.method = BOUNCE_METHOD_TOPOLOGY;
-  settings_.topology_visibility = 1;  // shadow rays
-  settings_.topology_vpls = 8192;
-  settings_.topology_resolution = 64;
-  const double rays = mean_red(render(BOUNCE_AOV_INDIRECT));
-  settings_.method = BOUNCE_METHOD_SSVP;
+  const double rays = ray_traced_vpls(8192, BOUNCE_AOV_INDIRECT);
   settings_.ssvp_vpls = 1024;
   settings_.ssvp_clusters = 1;
   const double ssvp = mean_red(render(BOUNCE_AOV_INDIRECT));
@@ -513,23 +511,12 @@ TEST_F(Ssvp, VplImportanceFindsTheRoomASunShinesInto) {
             4, 5, 9, 4, 9, 8, 5, 6, 10, 5, 10, 9, 6, 7, 11, 6, 11, 10, 7, 4, 8, 7, 8, 11});  // roof around the hole
   set_instances({1, 2}, {glm::mat4(1.0f), glm::mat4(1.0f)});
   set_albedo(0.8f);
-  BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(5.0f));
-  const glm::vec3 towards = glm::normalize(glm::vec3(0.1f, 0.05f, 1.0f));
-  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards)), y = glm::cross(towards, x);
-  std::memcpy(sun.axis_z, &towards[0], 12);
-  std::memcpy(sun.axis_x, &x[0], 12);
-  std::memcpy(sun.axis_y, &y[0], 12);
-  set_lights({sun});
+  set_sun(glm::vec3(0.1f, 0.05f, 1.0f));
   set_camera(glm::lookAt(glm::vec3(0, -1.8f, 1.5f), glm::vec3(0, 2, 1.2f), glm::vec3(0, 0, 1)),
              glm::perspective(glm::radians(70.0f), 1.0f, 0.05f, 100.0f), 32, 32);
   settings_.samples = 16;
   settings_.bounces = 1;
-  settings_.method = BOUNCE_METHOD_TOPOLOGY;
-  settings_.topology_visibility = 1;  // shadow rays
-  settings_.topology_vpls = 4096;
-  settings_.topology_resolution = 64;
-  const double rays = mean_red(render(BOUNCE_AOV_INDIRECT));
-  settings_.method = BOUNCE_METHOD_SSVP;
+  const double rays = ray_traced_vpls(4096, BOUNCE_AOV_INDIRECT);
   std::vector<double> ssvp;
   for (int importance : {0, 1}) {
     settings_.ssvp_importance = importance;

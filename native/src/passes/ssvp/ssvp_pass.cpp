@@ -171,6 +171,7 @@ void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers
 
   SsvpParams& p = params_;
   p = {};
+  if (traced && traced->triangle_count() == 0) traced = nullptr;  // nothing to trace: the paper's VPLs
   first_wanted_ = std::clamp(s.ssvp_vpls, 1, 1 << 16);
   p.first_count = traced ? first_wanted_ * cpu::kCandidatesPerVpl : first_wanted_;
   p.tiles_per_axis = 1 << std::clamp(s.ssvp_tiling, 0, 4);
@@ -291,7 +292,7 @@ void SsvpPass::cluster(const RenderContext& context, const GBuffer& camera, cons
     for (const GpuVpl& v : sampled)
       if (v.flux.w != 0.0f && v.flux.r + v.flux.g + v.flux.b > 0.0f) vpls.push_back(v);
   }
-  if (traced && traced->triangle_count() > 0) {
+  if (traced) {
     StageScope scope(context.timer, Stage::SsvpImportance);
     const uint32_t key = hash_combine(context.seed, context.sample ^ 0x494d5054u);
     vpls = draw_by_importance(vpls, first_wanted_, read_probes(camera, key), *traced, p.epsilon,
@@ -327,7 +328,7 @@ void SsvpPass::cluster(const RenderContext& context, const GBuffer& camera, cons
   for (std::size_t c = 0; c < clusters_.size(); ++c)
     eyes[c] = points[eye_member[c]].position + points[eye_member[c]].normal * (kCentreLift * p.length_scale);
   std::vector<uint32_t> assignment = clustering.assignment;
-  if (traced && traced->triangle_count() > 0) keep_eyes_in_sight(points, clusters_, eyes, metric, *traced, assignment);
+  if (traced) keep_eyes_in_sight(points, clusters_, eyes, metric, *traced, assignment);
 
   // Members sorted by cluster, so a cluster's members are a range (the propagation sums over them); the
   // interleaved shading takes every T^2-th VPL of this order, which spreads every cluster over the tiles.

@@ -24,6 +24,25 @@ glm::vec3 perpendicular(glm::vec3 n) {
       glm::cross(n, std::abs(n.x) < 0.9f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 1.0f, 0.0f)));
 }
 
+// Calls visit(face centre, axis, a, b) for every face between an empty voxel of cluster a and its neighbour of
+// cluster b != a one step up `axis`.
+template <typename Visit>
+void for_each_boundary_face(const GridShape& shape, const std::vector<uint32_t>& voxel_cluster, Visit&& visit) {
+  const glm::ivec3 padded = shape.padded();
+  const std::ptrdiff_t strides[3] = {1, padded.x, std::ptrdiff_t(padded.x) * padded.y};
+  for (std::size_t i = 0; i < voxel_cluster.size(); ++i) {
+    const uint32_t a = voxel_cluster[i];
+    if (a == kNoNode) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::size_t j = i + std::size_t(strides[axis]);
+      if (j >= voxel_cluster.size()) continue;
+      const uint32_t b = voxel_cluster[j];
+      if (b == kNoNode || b == a) continue;
+      visit(0.5 * (shape.centre(shape.voxel_of_index(i)) + shape.centre(shape.voxel_of_index(j))), axis, a, b);
+    }
+  }
+}
+
 // Distance from p to the straight line through a and b (to a itself when they coincide).
 float distance_to_line(glm::vec3 p, glm::vec3 a, glm::vec3 b) {
   const glm::vec3 ab = b - a;
@@ -329,28 +348,17 @@ void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>&
   // cluster to its second), each face to the nearest gate of its pair: the opening's orientation, whatever the
   // voxel steps (a single edge of the skeleton tilts by up to 27 degrees).
   std::vector<glm::dvec3> orientation(gates.size(), glm::dvec3(0.0));
-  const glm::ivec3 padded = shape.padded();
-  const std::ptrdiff_t strides[3] = {1, padded.x, std::ptrdiff_t(padded.x) * padded.y};
-  for (std::size_t i = 0; i < voxel_cluster.size(); ++i) {
-    const uint32_t a = voxel_cluster[i];
-    if (a == kNoNode) continue;
-    for (int axis = 0; axis < 3; ++axis) {
-      const std::size_t j = i + std::size_t(strides[axis]);
-      if (j >= voxel_cluster.size()) continue;
-      const uint32_t b = voxel_cluster[j];
-      if (b == kNoNode || b == a) continue;
-      const auto found = gates_of_pair.find(std::minmax(a, b));
-      if (found == gates_of_pair.end()) continue;
-      const glm::dvec3 face = 0.5 * (shape.centre(shape.voxel_of_index(i)) + shape.centre(shape.voxel_of_index(j)));
-      std::size_t nearest = found->second.front();
-      for (std::size_t g : found->second)
-        if (glm::distance(face, glm::dvec3(gates[g].centre)) < glm::distance(face, glm::dvec3(gates[nearest].centre)))
-          nearest = g;
-      glm::dvec3 normal(0.0);
-      normal[axis] = gates[nearest].clusters[0] == a ? 1.0 : -1.0;
-      orientation[nearest] += normal;
-    }
-  }
+  for_each_boundary_face(shape, voxel_cluster, [&](glm::dvec3 face, int axis, uint32_t a, uint32_t b) {
+    const auto found = gates_of_pair.find(std::minmax(a, b));
+    if (found == gates_of_pair.end()) return;
+    std::size_t nearest = found->second.front();
+    for (std::size_t g : found->second)
+      if (glm::distance(face, glm::dvec3(gates[g].centre)) < glm::distance(face, glm::dvec3(gates[nearest].centre)))
+        nearest = g;
+    glm::dvec3 normal(0.0);
+    normal[axis] = gates[nearest].clusters[0] == a ? 1.0 : -1.0;
+    orientation[nearest] += normal;
+  });
   for (std::size_t g = 0; g < gates.size(); ++g) {
     Gate& gate = gates[g];
     // The opening: the empty voxels of a plane through the neck connected to it within the gate's two clusters,
@@ -390,7 +398,7 @@ void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>&
           const glm::ivec2 c = open.back();
           open.pop_back();
           found.push_back(c);
-          for (const glm::ivec2 d : {glm::ivec2(1, 0), glm::ivec2(-1, 0), glm::ivec2(0, 1), glm::ivec2(0, -1)})
+          for (const glm::ivec2& d : {glm::ivec2(1, 0), glm::ivec2(-1, 0), glm::ivec2(0, 1), glm::ivec2(0, -1)})
             if (seen.insert({c.x + d.x, c.y + d.y}).second && empty(c + d)) open.push_back(c + d);
         }
         if (open.empty() && (cells.empty() || found.size() < cells.size())) {
@@ -422,6 +430,56 @@ void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>&
     gate.half_u = float((half_u + 0.5) * shape.voxel_size);
     gate.half_v = float((half_v + 0.5) * shape.voxel_size);
     gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
+  }
+}
+
+void add_boundary_gates(const GridShape& shape, const std::vector<uint32_t>& voxel_cluster, std::vector<Gate>& gates) {
+  std::set<std::pair<uint32_t, uint32_t>> gated;
+  for (const Gate& gate : gates) gated.insert(std::minmax(gate.clusters[0], gate.clusters[1]));
+  struct Boundary {
+    std::vector<glm::dvec3> faces;
+    glm::dvec3 normal{0.0};  // the sum of the faces' normals, from the pair's first cluster to its second
+  };
+  std::map<std::pair<uint32_t, uint32_t>, Boundary> boundaries;
+  for_each_boundary_face(shape, voxel_cluster, [&](glm::dvec3 face, int axis, uint32_t a, uint32_t b) {
+    const auto pair = std::minmax(a, b);
+    if (gated.count(pair)) return;
+    Boundary& boundary = boundaries[pair];
+    boundary.faces.push_back(face);
+    boundary.normal[axis] += a == pair.first ? 1.0 : -1.0;
+  });
+  for (auto& [pair, boundary] : boundaries) {
+    const double length = glm::length(boundary.normal);
+    // Faces whose normals cancel (a cluster wrapped around another) have no plane a rectangle could stand for.
+    if (!(length > 0.0)) continue;
+    const glm::dvec3 n = boundary.normal / length;
+    glm::dvec3 centre(0.0);
+    for (const glm::dvec3& face : boundary.faces) centre += face;
+    centre /= double(boundary.faces.size());
+    // The rectangle around the faces projected on the plane through their mean, along their main axis.
+    const glm::dvec3 t(perpendicular(glm::vec3(n))), w = glm::cross(n, t);
+    double xx = 0.0, xy = 0.0, yy = 0.0;
+    for (const glm::dvec3& face : boundary.faces) {
+      const glm::dvec2 d(glm::dot(face - centre, t), glm::dot(face - centre, w));
+      xx += d.x * d.x, xy += d.x * d.y, yy += d.y * d.y;
+    }
+    const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
+    const glm::dvec3 u = std::cos(angle) * t + std::sin(angle) * w, v = glm::cross(n, u);
+    double half_u = 0.0, half_v = 0.0;
+    for (const glm::dvec3& face : boundary.faces) {
+      half_u = std::max(half_u, std::abs(glm::dot(face - centre, u)));
+      half_v = std::max(half_v, std::abs(glm::dot(face - centre, v)));
+    }
+    Gate gate;
+    gate.centre = glm::vec3(centre);
+    gate.normal = glm::vec3(n);
+    gate.axis_u = glm::vec3(u);
+    gate.half_u = float(half_u + 0.5 * shape.voxel_size);
+    gate.half_v = float(half_v + 0.5 * shape.voxel_size);
+    gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
+    gate.clusters = {pair.first, pair.second};
+    gate.nodes = {kNoNode, kNoNode};
+    gates.push_back(gate);
   }
 }
 

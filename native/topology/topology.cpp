@@ -119,6 +119,7 @@ Topology build(std::span<const glm::vec3> soup, const Settings& settings, const 
   std::vector<uint32_t> voxel_cluster(t.skeleton.voxel_node.size());
   for (std::size_t i = 0; i < voxel_cluster.size(); ++i) voxel_cluster[i] = t.cluster_of_node(t.skeleton.voxel_node[i]);
   fit_gates_to_boundaries(t.grid, voxel_cluster, t.gates);
+  add_boundary_gates(t.grid.shape, voxel_cluster, t.gates);
   begin(BuildStage::Count);
   return t;
 }

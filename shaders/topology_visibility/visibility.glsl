@@ -1,7 +1,7 @@
 // Indirect visibility from the topology of the empty space (Noel and Biri 2014) on the GPU: the voxels' visibility
 // clusters as a 3-D texture, the gates of each cluster as buffers (native/src/passes/topology_visibility/). A
-// light at p in cluster A reaches x in cluster B when A == B, or when the segment p-x crosses one of A's gates
-// inside its disk (Fig. 11). Mirrors cpu::TopologyRenderer's rule.
+// light at p in cluster A reaches x in cluster B when A == B, or when the segment p-x crosses gates from A to B
+// inside their rectangles (Fig. 11). Mirrors cpu::TopologyRenderer's rule.
 #include "topology_visibility/gates_shared.glsl"
 
 const uint TOPOLOGY_NO_CLUSTER = 0xFFFFFFFFu;
@@ -19,6 +19,7 @@ struct TopologyGate {
   vec4 centre_half_u;  // centre, half extent along u
   vec4 normal_half_v;  // normal, half extent along cross(normal, u)
   vec4 axis_u;
+  uvec4 clusters;  // xy: the clusters either side
 };
 layout(std430, binding = 10) readonly buffer TopologyGates { TopologyGate topology_gates[]; };
 // [2 c], [2 c + 1]: the first index and the count of cluster c's gates in the rest of the array.
@@ -60,17 +61,30 @@ uint topology_cluster_at(vec3 p, vec3 n) {
   return nearest;
 }
 
-// Whether a light at p in cluster `from` lights x in cluster `to`, as on the CPU: a light without a cluster is
-// walled in and lights nothing; a receiver without one has no visibility information and takes every light.
+// Whether a light at p in cluster `from` lights x in cluster `to`, as on the CPU (cpu::reaches): a light without a
+// cluster is walled in and lights nothing; a receiver without one has no visibility information and takes every
+// light; otherwise the segment p-x must cross a chain of gates from `from` to `to`, each inside its rectangle,
+// found by a breadth-first walk through at most TOPOLOGY_WALK_CLUSTERS clusters.
 bool topology_reaches(uint from, vec3 p, uint to, vec3 x) {
   if (from == TOPOLOGY_NO_CLUSTER) return false;
   if (to == TOPOLOGY_NO_CLUSTER || from == to) return true;
-  uint first = topology_cluster_gates[2u * from], count = topology_cluster_gates[2u * from + 1u];
-  for (uint i = first; i < first + count; ++i) {
-    TopologyGate gate = topology_gates[topology_cluster_gates[i]];
-    if (in_gate_cone(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, gate.axis_u.xyz, gate.centre_half_u.w,
-                     gate.normal_half_v.w, x))
-      return true;
+  uint walk[TOPOLOGY_WALK_CLUSTERS];
+  walk[0] = from;
+  uint walked = 1u;
+  for (uint head = 0u; head < walked; ++head) {
+    uint cluster = walk[head];
+    uint first = topology_cluster_gates[2u * cluster], count = topology_cluster_gates[2u * cluster + 1u];
+    for (uint i = first; i < first + count; ++i) {
+      TopologyGate gate = topology_gates[topology_cluster_gates[i]];
+      uint beyond = gate.clusters.x == cluster ? gate.clusters.y : gate.clusters.x;
+      bool visited = false;
+      for (uint k = 0u; k < walked; ++k) visited = visited || walk[k] == beyond;
+      if (visited || !in_gate_cone(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, gate.axis_u.xyz,
+                                   gate.centre_half_u.w, gate.normal_half_v.w, x))
+        continue;
+      if (beyond == to) return true;
+      if (walked < uint(TOPOLOGY_WALK_CLUSTERS)) walk[walked++] = beyond;
+    }
   }
   return false;
 }

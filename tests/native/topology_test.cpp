@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <set>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -129,6 +131,28 @@ TEST(TopologyScenes, ClosedBoxIsOneClusterWithoutGates) {
   ASSERT_NE(inside.label, kNoNode);
   EXPECT_EQ(inside.clusters, 1u);
   EXPECT_TRUE(inside.gates.empty()) << t.summary();
+}
+
+// A voxel takes its nearest skeleton node's cluster, so the voxels of two clusters may touch where no skeleton edge
+// joins them: in the open box, branches of the skeleton into the space around it and into the room's edges claim
+// slabs of the room. Light crossing such a boundary needs a gate there as much as through a doorway.
+TEST(TopologyScenes, ClustersWhoseVoxelsTouchHaveAGate) {
+  const Topology t = build_at(test::open_box(), 128);
+  std::set<std::pair<uint32_t, uint32_t>> gated;
+  for (const Gate& gate : t.gates) gated.insert(std::minmax(gate.clusters[0], gate.clusters[1]));
+  const GridShape& shape = t.grid.shape;
+  const glm::ivec3 padded = shape.padded();
+  const std::size_t strides[3] = {1, std::size_t(padded.x), std::size_t(padded.x) * std::size_t(padded.y)};
+  std::set<std::pair<uint32_t, uint32_t>> touching;
+  for (std::size_t i = 0; i < t.skeleton.voxel_node.size(); ++i)
+    for (std::size_t stride : strides) {
+      if (i + stride >= t.skeleton.voxel_node.size()) continue;
+      const uint32_t a = t.cluster_of_node(t.skeleton.voxel_node[i]);
+      const uint32_t b = t.cluster_of_node(t.skeleton.voxel_node[i + stride]);
+      if (a != kNoNode && b != kNoNode && a != b) touching.insert(std::minmax(a, b));
+    }
+  EXPECT_GE(touching.size(), 1u) << t.summary();
+  for (const auto& pair : touching) EXPECT_TRUE(gated.count(pair)) << pair.first << "-" << pair.second;
 }
 
 class TopologyTwoRooms : public testing::TestWithParam<int> {};

@@ -21,6 +21,7 @@ struct GridBlock {  // std140 mirror of visibility.glsl's TopologyGrid
 };
 struct GpuGate {  // std430 mirror of visibility.glsl's TopologyGate
   glm::vec4 centre_half_u, normal_half_v, axis_u;
+  glm::uvec4 clusters;
 };
 
 }  // namespace
@@ -56,8 +57,8 @@ void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topol
 
   std::vector<GpuGate> gates;
   for (const topology::Gate& gate : topology->gates)
-    gates.push_back(
-        {glm::vec4(gate.centre, gate.half_u), glm::vec4(gate.normal, gate.half_v), glm::vec4(gate.axis_u, 0.0f)});
+    gates.push_back({glm::vec4(gate.centre, gate.half_u), glm::vec4(gate.normal, gate.half_v),
+                     glm::vec4(gate.axis_u, 0.0f), glm::uvec4(gate.clusters[0], gate.clusters[1], 0u, 0u)});
   // Two words per cluster (first index, count), then the gate indices of each cluster in turn.
   std::vector<std::vector<uint32_t>> of_cluster(topology->cluster_count);
   for (std::size_t g = 0; g < topology->gates.size(); ++g)

@@ -242,5 +242,31 @@ TEST_F(TopologyRender, ClosedRoomGetsNoIndirectLight) {
   }
 }
 
+// An open box lit from under its ceiling, seen through its open side: the same VPLs (the modes share them) must
+// give about the light that shadow rays find. Its open side joins the room to the space around it, so the skeleton
+// branches into that space and into the room's edges, and slabs of the room around those branches become clusters
+// of their own, joined to the rest by boundary gates (TopologyScenes.ClustersWhoseVoxelsTouchHaveAGate) and found
+// by walks through them.
+TEST_F(TopologyRender, OpenBoxKeepsTheLightShadowRaysFind) {
+  add_soup(1, open_box().vertices);
+  set_instances({1}, {glm::mat4(1.0f)});
+  set_albedo(0.8f);
+  set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(0.0f, 1.0f, 1.9f), glm::vec3(20.0f))});
+  set_camera(glm::lookAt(glm::vec3(0.0f, -3.5f, 1.0f), glm::vec3(0.0f, 1.0f, 1.0f), glm::vec3(0, 0, 1)),
+             glm::perspective(glm::radians(38.0f), 1.0f, 0.05f, 100.0f), 48, 48);
+  settings_.topology_resolution = 128;
+  settings_.samples = 4;
+  settings_.topology_visibility = 1;  // shadow rays
+  render();
+  const double rays = mean_red(read(BOUNCE_AOV_INDIRECT));
+  settings_.topology_visibility = 0;  // clusters and gates
+  EXPECT_TRUE(all_finite(render()));
+  const double clusters = mean_red(read(BOUNCE_AOV_INDIRECT));
+  std::printf("open box mean Indirect: shadow rays %.5g, clusters and gates %.5g (%.3f; %u clusters, %u gates)\n", rays,
+              clusters, clusters / rays, topology_info().clusters, topology_info().gates);
+  EXPECT_GT(rays, 0.0);
+  EXPECT_NEAR(clusters / rays, 1.0, 0.1);
+}
+
 }  // namespace
 }  // namespace bounce::test

@@ -1,9 +1,11 @@
 #include "cpu/topology_renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <unordered_map>
 #include <utility>
 
@@ -53,16 +55,79 @@ bool in_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 x) {
   return shared::in_gate_cone(p, gate.centre, gate.normal, gate.axis_u, gate.half_u, gate.half_v, x);
 }
 
+}  // namespace
+
+// The clusters' gates, and the component of the graph they make that each cluster is in: light from one cluster
+// reaches another through gates only within its component.
+struct ClusterGraph {
+  std::vector<std::vector<uint32_t>> gates_of;  // per cluster
+  std::vector<uint32_t> component;              // per cluster
+
+  explicit ClusterGraph(const topology::Topology& topo) : gates_of(topo.cluster_count), component(topo.cluster_count) {
+    for (std::size_t g = 0; g < topo.gates.size(); ++g)
+      for (uint32_t c : topo.gates[g].clusters)
+        if (c < topo.cluster_count) gates_of[c].push_back(uint32_t(g));
+    std::iota(component.begin(), component.end(), 0u);
+    const auto root = [&](uint32_t c) {
+      while (component[c] != c) c = component[c] = component[component[c]];
+      return c;
+    };
+    for (const topology::Gate& gate : topo.gates)
+      if (gate.clusters[0] < topo.cluster_count && gate.clusters[1] < topo.cluster_count)
+        component[root(gate.clusters[0])] = root(gate.clusters[1]);
+    for (uint32_t c = 0; c < topo.cluster_count; ++c) component[c] = root(c);
+  }
+  // Whether the gates join the two clusters (both in the grid).
+  bool joined(uint32_t a, uint32_t b) const { return component[a] == component[b]; }
+};
+
+namespace {
+
 // Whether the method lets a VPL at p in cluster `from` light x in cluster `to`: its own cluster without a test,
-// another only inside the cone through one of its cluster's gates (Fig. 11); a view sample outside every
-// cluster has no visibility information and counts every light here (the shading casts it a shadow ray).
-bool reaches(const topology::Topology& topo, const std::vector<std::vector<uint32_t>>& gates_of, uint32_t from,
-             glm::vec3 p, uint32_t to, glm::vec3 x) {
+// another when the segment p-x crosses a chain of gates from `from` to `to`, each inside its rectangle (Fig. 11
+// for one gate), found by a breadth-first walk as topology_reaches (shaders/topology_visibility/visibility.glsl)
+// does: the paper's single gate test let light through any of the cluster's gates, toward any cluster. A view
+// sample outside every cluster has no visibility information and counts every light here (the shading casts it
+// a shadow ray).
+bool reaches(const topology::Topology& topo, const ClusterGraph& graph, uint32_t from, glm::vec3 p, uint32_t to,
+             glm::vec3 x) {
   if (from == kNoNode) return false;
   if (to == kNoNode || to == from) return true;
-  for (uint32_t gate : gates_of[from])
-    if (in_gate_cone(p, topo.gates[gate], x)) return true;
+  std::array<uint32_t, TOPOLOGY_WALK_CLUSTERS> walk{from};
+  std::size_t walked = 1;
+  for (std::size_t head = 0; head < walked; ++head) {
+    const uint32_t cluster = walk[head];
+    for (uint32_t g : graph.gates_of[cluster]) {
+      const topology::Gate& gate = topo.gates[g];
+      const uint32_t beyond = gate.clusters[0] == cluster ? gate.clusters[1] : gate.clusters[0];
+      if (std::find(walk.begin(), walk.begin() + walked, beyond) != walk.begin() + walked || !in_gate_cone(p, gate, x))
+        continue;
+      if (beyond == to) return true;
+      if (walked < walk.size()) walk[walked++] = beyond;
+    }
+  }
   return false;
+}
+
+// How the method's visibility decides whether a VPL in cluster `from` lights a point in cluster `to`.
+enum class Test : uint8_t {
+  kNone,       // no test: the same cluster, or no indirect visibility at all
+  kGates,      // reaches(): the segment must cross gates into the point's cluster
+  kShadowRay,  // a shadow ray: the Shadow Rays mode, and where the topology cannot tell (below)
+  kDark,       // never: the VPL is walled in (it has no cluster)
+};
+Test visibility_test(int topology_visibility, const ClusterGraph& graph, uint32_t from, uint32_t to) {
+  if (topology_visibility == 2) return Test::kNone;
+  if (topology_visibility == 1) return Test::kShadowRay;
+  if (from == kNoNode) return Test::kDark;
+  if (from == to) return Test::kNone;
+  // A point outside every cluster (outside the grid, or in a voxel the grid counts as solid): the topology says
+  // nothing of its visibility, and lighting it with every light let a closed room's edges glow with the light of
+  // the room beside it. Clusters no chain of gates joins: the opening between them may be narrower than a voxel
+  // (blinds whose gaps the grid closes, which kept out half of a sunlit room's indirect light) or not be there
+  // at all (a solid wall); the renderer casts those rays only for VPLs whose light reached a probe that way.
+  if (to == kNoNode || !graph.joined(from, to)) return Test::kShadowRay;
+  return Test::kGates;
 }
 
 // Whether a bounding sphere may hold points of that cone: the sphere must reach beyond the gate's plane and
@@ -91,12 +156,8 @@ glm::vec3 cluster_colour(uint32_t cluster) {
 
 struct Assignment {
   uint32_t vpl;
-  uint32_t gate;  // kNoNode: same cluster, no test; kShadowRay: a shadow ray decides
+  Test test;
 };
-// The gate of an assignment to view samples outside every cluster (outside the grid, or in a voxel the grid
-// counts as solid): the topology says nothing of their visibility, and lighting them with every light let a
-// closed room's edges glow with the light of the room beside it.
-constexpr uint32_t kShadowRay = kNoNode - 1;
 
 // A sphere or a gate (a rectangle) of the Topology pass, drawn where the primary ray meets it before the surface.
 struct Glyph {
@@ -205,15 +266,13 @@ uint32_t TopologyRenderer::vpl_cluster(const Vpl& vpl) const {
   // inside a wall) would otherwise reach through to the room beyond.
   const float offset = 2e-4f * scene_.radius();
   const auto reachable = [&](glm::vec3 from, glm::vec3 to) {
-    from += vpl.normal * offset;
-    const float distance = glm::length(to - from);
-    return !(distance > 0.0f) || !scene_.occluded(from, (to - from) / distance, 0.0f, distance);
+    return scene_.clear_between(from + vpl.normal * offset, to);
   };
   return topologies_.latest()->cluster_at(vpl.position, vpl.normal, topology::Topology::Side::Front, reachable);
 }
 
 void TopologyRenderer::prepare_vpls(const GpuScene& scene, const BounceSettings& settings, uint64_t seed,
-                                    std::span<const Probe> probes, const std::vector<std::vector<uint32_t>>& gates_of) {
+                                    std::span<const Probe> probes, const ClusterGraph& graph) {
   // Candidates: kCandidatesPerVpl times the VPLs wanted, traced from the lights (a sun's over a disk the size of
   // the scene, so most land where the camera sees nothing: on a roof, outside a window).
   VplOptions options;
@@ -224,18 +283,35 @@ void TopologyRenderer::prepare_vpls(const GpuScene& scene, const BounceSettings&
   const std::vector<Vpl> candidates = trace_vpls(scene_, scene.lights(), options);
   std::vector<uint32_t> candidate_cluster(candidates.size());
   parallel_for(candidates.size(), 0, 64, [&](std::size_t i) { candidate_cluster[i] = vpl_cluster(candidates[i]); });
-  // Importance: the light a candidate gives the probes under the method's visibility rule, so the VPLs go where
-  // their light reaches what the camera sees (resampled, hence unbiased for the candidates' image in every
-  // visibility mode; the rule is the clusters' in all of them, so the modes compare the same VPLs: Table II).
+  // Importance: the light a candidate gives the probes under the mode's own visibility, so the VPLs go where their
+  // light reaches what the camera sees (resampled with a defensive share, hence unbiased for the candidates'
+  // image). Measured under the clusters' rule in every mode, as before, the Shadow Rays mode drew the light that
+  // the rule loses (through blinds) only through the defensive share, and lost 18 % of a sunlit room's.
+  const topology::Topology& topo = *topologies_.latest();
   const float clamp = settings.topology_distance_clamp * scene_.radius();
+  const float offset = 2e-4f * std::max(scene_.radius(), 1e-30f);
   std::vector<float> importance(candidates.size(), 0.0f);
+  std::vector<uint8_t> lit_by_ray(candidates.size(), 0);
   parallel_for(candidates.size(), 0, 64, [&](std::size_t i) {
     const Vpl& vpl = candidates[i];
     double sum = 0.0;
     for (const Probe& probe : probes) {
-      if (!reaches(*topologies_.latest(), gates_of, candidate_cluster[i], vpl.position, probe.cluster, probe.position))
-        continue;
       const glm::vec3 light = probe.albedo * vpl_irradiance(vpl, probe.position, probe.normal, clamp);
+      if (!(light.r + light.g + light.b > 0.0f)) continue;
+      switch (visibility_test(settings.topology_visibility, graph, candidate_cluster[i], probe.cluster)) {
+        case Test::kDark:
+          continue;
+        case Test::kGates:
+          if (!reaches(topo, graph, candidate_cluster[i], vpl.position, probe.cluster, probe.position)) continue;
+          break;
+        case Test::kShadowRay:
+          if (!scene_.clear_between(vpl.position + vpl.normal * offset, probe.position + probe.normal * offset, offset))
+            continue;
+          lit_by_ray[i] = 1;
+          break;
+        case Test::kNone:
+          break;
+      }
       sum += double(light.r + light.g + light.b);
     }
     importance[i] = float(sum);
@@ -243,10 +319,12 @@ void TopologyRenderer::prepare_vpls(const GpuScene& scene, const BounceSettings&
   Rng rng(seed, kVplResampling, 0);
   vpls_.clear();
   vpl_cluster_.clear();
+  vpl_lit_by_ray_.clear();
   for (const Draw& draw : resample(importance, wanted, kUniformShare, rng.next())) {
     vpls_.push_back(candidates[draw.index]);
     vpls_.back().power *= draw.weight;
     vpl_cluster_.push_back(candidate_cluster[draw.index]);
+    vpl_lit_by_ray_.push_back(lit_by_ray[draw.index]);
   }
 }
 
@@ -268,10 +346,7 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
     if (!topologies_.get(scene_, settings, callbacks)) return false;
   }
   const topology::Topology& topo = *topologies_.latest();
-  std::vector<std::vector<uint32_t>> gates_of(topo.cluster_count);
-  for (std::size_t g = 0; g < topo.gates.size(); ++g)
-    for (uint32_t c : topo.gates[g].clusters)
-      if (c < topo.cluster_count) gates_of[c].push_back(uint32_t(g));
+  const ClusterGraph graph(topo);
 
   const glm::dmat4 world_to_view = glm::dmat4(glm::make_mat4(camera.world_to_view));
   const glm::dmat4 clip_to_world = glm::inverse(glm::dmat4(glm::make_mat4(camera.projection)) * world_to_view);
@@ -383,7 +458,7 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
           const ViewSample& v = view[std::size_t(row) * std::size_t(width) + std::size_t(column)];
           if (v.hit) probes.push_back({v.surface.position, v.surface.shading_normal, v.surface.albedo, v.cluster});
         }
-      prepare_vpls(scene, settings, mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, gates_of);
+      prepare_vpls(scene, settings, mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
     }
     {
       StageScope scope(timer, Stage::TopologyDirect);
@@ -436,15 +511,21 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
         const float sphere = 0.5f * glm::length(hi[g] - lo[g]) + offset;
         const uint32_t cluster = group_cluster[g];
         for (std::size_t l = 0; l < vpls_.size(); ++l) {
-          const uint32_t vpl_cluster = vpl_cluster_[l];
-          if (vpl_cluster == kNoNode) continue;  // walled in: it lights nothing
-          if (cluster == kNoNode || vpl_cluster == cluster) {
-            assigned[g].push_back({uint32_t(l), cluster == kNoNode ? kShadowRay : kNoNode});
+          const Test test = visibility_test(settings.topology_visibility, graph, vpl_cluster_[l], cluster);
+          if (test == Test::kDark) continue;
+          // Between clusters no gates join, only the VPLs whose light reached a probe that way: a solid wall
+          // costs no rays at shading.
+          if (test == Test::kShadowRay && cluster != kNoNode && !vpl_lit_by_ray_[l]) continue;
+          if (test != Test::kGates) {
+            assigned[g].push_back({uint32_t(l), test});
             continue;
           }
-          for (uint32_t gate : gates_of[vpl_cluster])
-            if (sphere_meets_gate_cone(vpls_[l].position, topo.gates[gate], centre, sphere))
-              assigned[g].push_back({uint32_t(l), gate});
+          // The first gate of a walk must open toward the group.
+          for (uint32_t gate : graph.gates_of[vpl_cluster_[l]])
+            if (sphere_meets_gate_cone(vpls_[l].position, topo.gates[gate], centre, sphere)) {
+              assigned[g].push_back({uint32_t(l), test});
+              break;
+            }
         }
       });
     }
@@ -462,23 +543,19 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
             if (vpl.bounce == 2) second_irradiance += e;
           };
           const auto blocked = [&](const Vpl& vpl) {
-            const glm::vec3 from = x + v.surface.normal * offset, to = vpl.position + vpl.normal * offset;
-            const float distance = glm::length(to - from);
-            return distance > offset && scene_.occluded(from, (to - from) / distance, 0.0f, distance - offset);
+            return !scene_.clear_between(x + v.surface.normal * offset, vpl.position + vpl.normal * offset, offset);
           };
           if (clusters_and_gates) {
             if (group_of[i] == kNoNode) continue;
-            uint32_t counted = kNoNode;  // a light listed with several gates lights a sample once
             for (const Assignment& a : assigned[group_of[i]]) {
-              if (a.vpl == counted) continue;
-              if (a.gate != kNoNode && a.gate != kShadowRay &&
-                  !in_gate_cone(vpls_[a.vpl].position, topo.gates[a.gate], x))
+              const Vpl& vpl = vpls_[a.vpl];
+              const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
+              // The visibility tests last: most VPLs face away from a given sample.
+              if (!(e.r + e.g + e.b > 0.0f)) continue;
+              if (a.test == Test::kGates && !reaches(topo, graph, vpl_cluster_[a.vpl], vpl.position, v.cluster, x))
                 continue;
-              counted = a.vpl;
-              const glm::vec3 e = vpl_irradiance(vpls_[a.vpl], x, n, clamp);
-              // The shadow ray last: most VPLs face away from a given sample.
-              if (!(e.r + e.g + e.b > 0.0f) || (a.gate == kShadowRay && blocked(vpls_[a.vpl]))) continue;
-              add(vpls_[a.vpl], e);
+              if (a.test == Test::kShadowRay && blocked(vpl)) continue;
+              add(vpl, e);
             }
           } else {
             const bool shadow_rays = settings.topology_visibility == 1;

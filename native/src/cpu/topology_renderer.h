@@ -22,6 +22,8 @@
 
 namespace bounce::cpu {
 
+struct ClusterGraph;
+
 class TopologyRenderer {
  public:
   explicit TopologyRenderer(CpuScene& scene) : scene_(scene) {}
@@ -38,13 +40,14 @@ class TopologyRenderer {
     uint32_t cluster;
   };
   void prepare_vpls(const GpuScene& scene, const BounceSettings& settings, uint64_t seed, std::span<const Probe> probes,
-                    const std::vector<std::vector<uint32_t>>& gates_of);
+                    const ClusterGraph& graph);
   uint32_t vpl_cluster(const Vpl& vpl) const;
 
   CpuScene& scene_;  // the renderer's, shared with the ray-traced direct light
   TopologyCache topologies_;
   std::vector<Vpl> vpls_;
-  std::vector<uint32_t> vpl_cluster_;  // per VPL; topology::kNoNode when walled in or outside the grid
+  std::vector<uint32_t> vpl_cluster_;    // per VPL; topology::kNoNode when walled in or outside the grid
+  std::vector<uint8_t> vpl_lit_by_ray_;  // per VPL: whether a shadow ray found its light reaching a probe
 };
 
 }  // namespace bounce::cpu

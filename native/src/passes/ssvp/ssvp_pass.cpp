@@ -86,9 +86,7 @@ std::vector<GpuVpl> draw_by_importance(std::span<const GpuVpl> candidates, int w
     for (const Probe& probe : probes) {
       const glm::vec3 light = probe.albedo * cpu::vpl_irradiance(vpl, probe.position, probe.normal, clamp);
       if (!(light.r + light.g + light.b > 0.0f)) continue;
-      const glm::vec3 from = vpl.position + vpl.normal * offset, to = probe.position + probe.normal * offset;
-      const float distance = glm::length(to - from);
-      if (distance > 0.0f && scene.occluded(from, (to - from) / distance, 0.0f, distance)) continue;
+      if (!scene.clear_between(vpl.position + vpl.normal * offset, probe.position + probe.normal * offset)) continue;
       sum += double(light.r + light.g + light.b);
     }
     importance[i] = float(sum);
@@ -113,9 +111,7 @@ void keep_eyes_in_sight(std::span<const ssvp::ClusterPoint> points, std::span<co
                         std::vector<uint32_t>& assignment) {
   const float offset = 2e-4f * std::max(scene.radius(), 1e-30f);
   const auto sees = [&](std::size_t i, std::size_t c) {
-    const glm::vec3 from = points[i].position + points[i].normal * offset, to_eye = eyes[c] - from;
-    const float distance = glm::length(to_eye);
-    return !(distance > 0.0f) || !scene.occluded(from, to_eye / distance, 0.0f, distance);
+    return scene.clear_between(points[i].position + points[i].normal * offset, eyes[c]);
   };
   parallel_for(points.size(), 0, 16, [&](std::size_t i) {
     if (sees(i, assignment[i])) return;

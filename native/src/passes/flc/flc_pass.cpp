@@ -168,7 +168,7 @@ void FlcPass::add_light(const RenderContext& context) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplsBinding, vpls_.id());
   glUseProgram(lighting_.id());
   glUniform1ui(0, vpl_count_);
-  glDispatchCompute((vpl_count_ + 63) / 64, 1, 1);
+  gl::dispatch_linear(vpl_count_, 64);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   gl::check("lighting the Forward Light Cuts VPLs");
 }

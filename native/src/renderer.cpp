@@ -58,18 +58,15 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
   const uint32_t aov_bits = method_aovs(settings.method);
   frame->allocate(x1 - x0, y1 - y0, aov_bits);
   timer_.reset();
-  uint64_t nonfinite = 0;
   const int samples = settings.samples;
   const int total_steps = samples * static_cast<int>(tiles.size());
   auto last_publish = std::chrono::steady_clock::now();
 
   auto read_tile = [&](Frame& into, const Tile& tile, int samples_done) {
     StageScope scope(timer_, Stage::Readback);
-    uint64_t count = 0;
     for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
       if (into.holds(aov))
-        count += compose_.read(aov, samples_done, into.aovs[aov].data(), into.width, tile.x - x0, tile.y - y0);
-    return count;
+        compose_.read(aov, samples_done, into.aovs[aov].data(), into.width, tile.x - x0, tile.y - y0);
   };
   const bool flc = plan.indirect == FramePlan::Indirect::ForwardLightCuts;
   const bool ssvp = plan.indirect == FramePlan::Indirect::Ssvp;
@@ -161,16 +158,17 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
       if (tiles.size() == 1 && !last && (s == 0 || now - last_publish >= kProgressivePublishInterval)) {
         auto partial = std::make_shared<Frame>();
         partial->allocate(frame->width, frame->height, aov_bits);
-        partial->info.nonfinite_pixels = read_tile(*partial, tile, s + 1);
+        read_tile(*partial, tile, s + 1);
+        partial->info.nonfinite_pixels = partial->zero_nonfinite();
         finish_info(*partial, s + 1);
         callbacks.publish(partial);
         last_publish = std::chrono::steady_clock::now();
       }
     }
-    nonfinite += read_tile(*frame, tile, samples);
+    read_tile(*frame, tile, samples);
   }
   finish_info(*frame, samples);
-  frame->info.nonfinite_pixels = nonfinite;
+  frame->info.nonfinite_pixels = frame->zero_nonfinite();
   callbacks.publish(frame);
   return true;
 }

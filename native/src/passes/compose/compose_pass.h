@@ -24,8 +24,8 @@ class ComposePass {
   };
   void accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct, const Indirect& indirect);
   // Averages `samples` accumulated samples of AOV `aov` into dst (width * height * channels floats) at the
-  // pixel offset (x, y) of a frame `frame_width` wide; returns how many values were not finite (set to 0).
-  uint64_t read(int aov, int samples, float* frame, int frame_width, int x, int y) const;
+  // pixel offset (x, y) of a frame `frame_width` wide (Frame::zero_nonfinite then clears what is not finite).
+  void read(int aov, int samples, float* frame, int frame_width, int x, int y) const;
 
  private:
   static constexpr int kComposedAovs = 8;  // written by compose.frag at once (GL guarantees 8 draw buffers)

@@ -141,6 +141,19 @@ TEST_F(NumericRange, FarAndOverbrightLightsAreSkippedOrDimmed) {
   }
 }
 
+// A triangle with corners 1e14 m out, spanning the view 1 m above the floor: its interpolated positions kept so
+// little precision that Depth read negative or far off. It is beyond the range: left out, the floor and the square
+// show with their own depths.
+TEST_F(NumericRange, HugeTriangleBeyondTheRangeLeavesDepthRight) {
+  add_soup(3, {{-1e14f, -1e14f, 1}, {1e14f, -1e14f, 1}, {0, 1e14f, 1}});
+  build_floor_and_occluder({3}, {glm::mat4(1.0f)});
+  set_lights({make_light(BOUNCE_LIGHT_POINT, {0, 0, 4}, glm::vec3(100.0f))});
+  const Image depth = render(BOUNCE_AOV_DEPTH);
+  EXPECT_EQ(stats().out_of_range_triangles, 1u);
+  EXPECT_NEAR(depth.at(kLitX, kRow)[0], 50.0f, 1e-3f);  // the camera is 50 m above the floor
+  EXPECT_NEAR(depth.at(8, kRow)[0], 48.0f, 1e-3f);      // and 48 m above the square
+}
+
 // Blender's camera matrix for an orthographic scale of 0 is all zeros: the render showed the background only.
 TEST_F(NumericRange, SingularProjectionIsRefused) {
   build_floor_and_occluder();

@@ -112,7 +112,7 @@ void FlcPass::generate(const RenderContext& context) {
     glGetNamedBufferSubData(counters_.id(), 0, sizeof counters, &counters);
     if (counters.vpl_overflow == 0 && counters.divergent_overflow == 0) {
       vpl_count_ = counters.vpl_draw[0];
-      divergent_count_ = counters.divergent_draw[0] / 3;
+      divergent_count_ = counters.divergent_draw[1];
       break;
     }
     if (attempt == kMaxRegrowths) fail(BOUNCE_ERROR_INTERNAL, "Forward Light Cuts: VPL buffers kept overflowing");
@@ -132,7 +132,7 @@ void FlcPass::run_pipelines(const RenderContext& context) {
   params_.vpl_capacity = vpl_capacity_;
   params_.divergent_capacity = divergent_capacity_;
   glNamedBufferSubData(params_buffer_.id(), 0, sizeof params_, &params_);
-  const Counters reset{{0, 1, 0, 0}, {0, 1, 0, 0}, 0, 0};
+  const Counters reset{{0, 1, 0, 0}, {3, 0, 0, 0}, 0, 0};
   glNamedBufferSubData(counters_.id(), 0, sizeof reset, &reset);
   glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCountersBinding, counters_.id());

@@ -1,5 +1,6 @@
 #include "passes/compose/compose_pass.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "gl/shader.h"
@@ -64,7 +65,7 @@ void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffe
   glDisable(GL_BLEND);
 }
 
-uint64_t ComposePass::read(int aov, int samples, float* frame, int frame_width, int x, int y) const {
+uint64_t ComposePass::read(int aov, int samples, float* frame, int frame_width, int x, int y, Into into) const {
   const int channels = bounce_aov_channels(aov);
   const bool depth = aov == BOUNCE_AOV_DEPTH;
   scratch_.resize(std::size_t(width_) * height_ * (depth ? 1 : 4));
@@ -80,7 +81,13 @@ uint64_t ComposePass::read(int aov, int samples, float* frame, int frame_width, 
       bool finite = true;
       for (int c = 0; c < channels; ++c) finite = finite && std::isfinite(src[c]);
       nonfinite += finite ? 0 : 1;
-      for (int c = 0; c < channels; ++c) dst[c] = finite ? src[c] * scale : 0.0f;
+      for (int c = 0; c < channels; ++c) {
+        const float value = finite ? src[c] * scale : 0.0f;
+        if (into == Into::Replace)
+          dst[c] = value;
+        else
+          dst[c] = depth ? std::min(dst[c], value) : dst[c] + value;
+      }
     }
   }
   return nonfinite;

@@ -1,5 +1,7 @@
 #include "passes/compose/compose_pass.h"
 
+#include <algorithm>
+
 #include "gl/shader.h"
 
 namespace bounce {
@@ -62,7 +64,7 @@ void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffe
   glDisable(GL_BLEND);
 }
 
-void ComposePass::read(int aov, int samples, float* frame, int frame_width, int x, int y) const {
+void ComposePass::read(int aov, int samples, float* frame, int frame_width, int x, int y, Into into) const {
   const int channels = bounce_aov_channels(aov);
   const bool depth = aov == BOUNCE_AOV_DEPTH;
   scratch_.resize(std::size_t(width_) * height_ * (depth ? 1 : 4));
@@ -74,7 +76,13 @@ void ComposePass::read(int aov, int samples, float* frame, int frame_width, int 
     for (int col = 0; col < width_; ++col) {
       const float* src = scratch_.data() + (std::size_t(row) * width_ + col) * stride;
       float* dst = frame + ((std::size_t(y) + row) * frame_width + x + col) * channels;
-      for (int c = 0; c < channels; ++c) dst[c] = src[c] * scale;
+      for (int c = 0; c < channels; ++c) {
+        const float value = src[c] * scale;
+        if (into == Into::Replace)
+          dst[c] = value;
+        else
+          dst[c] = depth ? std::min(dst[c], value) : dst[c] + value;
+      }
     }
   }
 }

@@ -105,6 +105,18 @@ def _report_scene_stats(stats, reports):
                      "dropped")
     if stats.skipped_lights:
         reports.warn(f"Bounce: {stats.skipped_lights} lights with zero or non-finite power were skipped")
+    # The numeric range policy of native/src/scene_data.cpp: what float32 rays and shadow maps cannot resolve.
+    if stats.out_of_range_triangles:
+        reports.warn(f"Bounce: {stats.out_of_range_triangles} triangles farther than 1e9 m from the origin were "
+                     "dropped")
+    if stats.out_of_range_instances:
+        reports.warn(f"Bounce: {stats.out_of_range_instances} objects reaching farther than 1e9 m from the origin "
+                     "were left out")
+    if stats.out_of_range_lights:
+        reports.warn(f"Bounce: {stats.out_of_range_lights} lights farther than 1e9 m from the origin were skipped")
+    if stats.clamped_lights:
+        reports.warn(f"Bounce: {stats.clamped_lights} lights brighter than 1e15 or larger than 1e9 m were clamped "
+                     "to those limits")
 
 
 def _write_result(engine, depsgraph, native_engine, info):

@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 4  # BOUNCE_API_VERSION this module was written against
+API_VERSION = 5  # BOUNCE_API_VERSION this module was written against
 
 LIBRARY_ENV = "BOUNCE_LIBRARY"
 LIBRARY_NAME = "libbounce.so"
@@ -182,7 +182,11 @@ class SceneStats(ctypes.Structure):
                 ("texture_count", _u32),
                 ("gpu_bytes", _u64),
                 ("bounds_min", _f32 * 3),
-                ("bounds_max", _f32 * 3)]
+                ("bounds_max", _f32 * 3),
+                ("out_of_range_triangles", _u64),
+                ("out_of_range_instances", _u32),
+                ("out_of_range_lights", _u32),
+                ("clamped_lights", _u32)]
 
 
 class Camera(ctypes.Structure):

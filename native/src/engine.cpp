@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstring>
 
+#include <glm/glm.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
 #include "error.h"
 #include "renderer.h"
 #include "scene_data.h"
@@ -19,6 +22,10 @@ void validate_camera(const BounceCamera& camera) {
               " is outside 1..65536");
   for (float v : camera.world_to_view) require(std::isfinite(v), "camera: view matrix is not finite");
   for (float v : camera.projection) require(std::isfinite(v), "camera: projection matrix is not finite");
+  // Blender gives an all-zero matrix for an orthographic scale of 0: every point would land on w = 0, unseen.
+  const double determinant = glm::determinant(glm::dmat4(glm::make_mat4(camera.projection)));
+  require(determinant != 0.0 && std::isfinite(determinant),
+          "camera: the projection matrix is singular (an orthographic scale or focal length of zero?)");
   const int32_t* c = camera.crop;
   const bool whole = c[0] == 0 && c[1] == 0 && c[2] == 0 && c[3] == 0;
   require(

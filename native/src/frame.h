@@ -1,7 +1,10 @@
 // A finished (or progressively refined) image: every AOV as interleaved floats, rows bottom first.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "bounce/bounce.h"
@@ -35,6 +38,25 @@ struct Frame {
       if (holds(aov)) aovs[aov].assign(std::size_t(w) * h * bounce_aov_channels(aov), 0.0f);
   }
   bool holds(int aov) const { return (held >> aov) & 1u; }
+
+  // Sets every AOV value of a pixel whose channels are not all finite to zero; returns how many pixels had one
+  // (counted once however many of their AOVs did: the count is of the image's pixels).
+  uint64_t zero_nonfinite() {
+    std::vector<bool> bad(std::size_t(width) * height, false);
+    for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov) {
+      if (!holds(aov)) continue;
+      const std::size_t channels = std::size_t(bounce_aov_channels(aov));
+      for (std::size_t i = 0; i < bad.size(); ++i) {
+        float* value = aovs[aov].data() + channels * i;
+        bool finite = true;
+        for (std::size_t c = 0; c < channels; ++c) finite = finite && std::isfinite(value[c]);
+        if (finite) continue;
+        for (std::size_t c = 0; c < channels; ++c) value[c] = 0.0f;
+        bad[i] = true;
+      }
+    }
+    return uint64_t(std::count(bad.begin(), bad.end(), true));
+  }
 };
 
 }  // namespace bounce

@@ -98,6 +98,7 @@ void GpuScene::set_materials(std::vector<BounceMaterial> materials) {
 
 void GpuScene::set_instances(std::shared_ptr<const InstanceList> instances) {
   instances_ = std::move(instances);
+  drawn_instances_.clear();  // they pointed into the old list; prepare() finds the new ones
   dirty_ = true;
 }
 
@@ -127,24 +128,34 @@ void GpuScene::rebuild() {
   std::map<std::tuple<const GpuMesh*, std::size_t, uint32_t>, std::vector<uint32_t>> groups;
   glm::vec3 lo(INFINITY), hi(-INFINITY);
   drawn_triangles_ = 0;
+  drawn_instances_.clear();
+  out_of_range_instances_ = 0;
   if (instances_) {
     for (const InstanceData& instance : instances_->instances) {
       const auto mesh = meshes_.find(instance.mesh_key);
       if (mesh == meshes_.end() || mesh->second.data->empty()) continue;
-      const auto index = static_cast<uint32_t>(gpu_instances.size());
-      gpu_instances.push_back({instance.object_to_world, instance.normal_to_world});
       const MeshData& data = *mesh->second.data;
-      for (std::size_t s = 0; s < data.submeshes.size(); ++s) {
-        groups[{&mesh->second, s, material_of(instance, data.submeshes[s])}].push_back(index);
-        drawn_triangles_ += data.submeshes[s].vertex_count / 3;
-      }
+      glm::vec3 instance_lo(INFINITY), instance_hi(-INFINITY);
       for (int corner = 0; corner < 8; ++corner) {
         const glm::vec3 local((corner & 1) ? data.bounds_max.x : data.bounds_min.x,
                               (corner & 2) ? data.bounds_max.y : data.bounds_min.y,
                               (corner & 4) ? data.bounds_max.z : data.bounds_min.z);
         const glm::vec3 world = glm::vec3(instance.object_to_world * glm::vec4(local, 1.0f));
-        lo = glm::min(lo, world);
-        hi = glm::max(hi, world);
+        instance_lo = glm::min(instance_lo, world);
+        instance_hi = glm::max(instance_hi, world);
+      }
+      if (!within_range(instance_lo) || !within_range(instance_hi)) {  // the range policy: scene_data.cpp
+        ++out_of_range_instances_;
+        continue;
+      }
+      lo = glm::min(lo, instance_lo);
+      hi = glm::max(hi, instance_hi);
+      drawn_instances_.push_back(&instance);
+      const auto index = static_cast<uint32_t>(gpu_instances.size());
+      gpu_instances.push_back({instance.object_to_world, instance.normal_to_world});
+      for (std::size_t s = 0; s < data.submeshes.size(); ++s) {
+        groups[{&mesh->second, s, material_of(instance, data.submeshes[s])}].push_back(index);
+        drawn_triangles_ += data.submeshes[s].vertex_count / 3;
       }
     }
   }
@@ -200,11 +211,15 @@ BounceSceneStats GpuScene::stats() const {
   s.triangle_count = drawn_triangles_;
   for (const auto& [key, mesh] : meshes_) {
     s.dropped_triangles += mesh.data->dropped_triangles;
+    s.out_of_range_triangles += mesh.data->out_of_range_triangles;
     s.gpu_bytes += mesh.data->vertices.size() * sizeof(Vertex);
   }
   for (const auto& [key, texture] : textures_) s.gpu_bytes += texture.bytes;
   s.light_count = static_cast<uint32_t>(lights_.lights.size());
   s.skipped_lights = lights_.skipped;
+  s.out_of_range_instances = out_of_range_instances_;
+  s.out_of_range_lights = lights_.out_of_range;
+  s.clamped_lights = lights_.clamped;
   s.texture_count = static_cast<uint32_t>(textures_.size());
   for (int a = 0; a < 3; ++a) {
     s.bounds_min[a] = bounds_min_[a];
@@ -221,14 +236,12 @@ uint32_t GpuScene::material_of(const InstanceData& instance, const SubMesh& subm
 
 std::vector<GpuScene::DrawnPart> GpuScene::drawn_parts() const {
   std::vector<DrawnPart> parts;
-  if (!instances_) return parts;
-  for (const InstanceData& instance : instances_->instances) {
-    const auto mesh = meshes_.find(instance.mesh_key);
-    if (mesh == meshes_.end()) continue;
-    for (const SubMesh& submesh : mesh->second.data->submeshes) {
-      const uint32_t material = material_of(instance, submesh);
-      parts.push_back({*mesh->second.data, instance, submesh,
-                       material < materials_.size() ? materials_[material] : default_material_});
+  for (const InstanceData* instance : drawn_instances_) {
+    const MeshData& mesh = *meshes_.at(instance->mesh_key).data;
+    for (const SubMesh& submesh : mesh.submeshes) {
+      const uint32_t material = material_of(*instance, submesh);
+      parts.push_back(
+          {mesh, *instance, submesh, material < materials_.size() ? materials_[material] : default_material_});
     }
   }
   return parts;

@@ -60,7 +60,7 @@ class GpuScene {
   glm::vec3 bounds_max() const { return bounds_max_; }
   bool has_geometry() const { return !batches_.empty(); }
 
-  // The drawn geometry for CPU renderers, after prepare(): each instance's submeshes with their materials.
+  // The drawn geometry for CPU renderers, after prepare(): each drawn instance's submeshes with their materials.
   struct DrawnPart {
     const MeshData& mesh;
     const InstanceData& instance;
@@ -103,6 +103,8 @@ class GpuScene {
   BounceWorld world_{};
 
   std::vector<Batch> batches_;
+  std::vector<const InstanceData*> drawn_instances_;  // in instances_: those with a mesh, within range
+  uint32_t out_of_range_instances_ = 0;
   gl::VertexArray vertex_array_;
   gl::Buffer instance_buffer_, instance_list_buffer_, material_buffer_;
   std::size_t instance_capacity_ = 0, instance_list_capacity_ = 0, material_capacity_ = 0;

@@ -58,18 +58,18 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
   const uint32_t aov_bits = method_aovs(settings.method);
   frame->allocate(x1 - x0, y1 - y0, aov_bits);
   timer_.reset();
-  uint64_t nonfinite = 0;
   const int samples = settings.samples;
   const int total_steps = samples * static_cast<int>(tiles.size());
   auto last_publish = std::chrono::steady_clock::now();
 
-  auto read_tile = [&](Frame& into, const Tile& tile, int samples_done) {
+  // One tile keeps the sum of its samples in the accumulation targets; several take turns with them, each adding
+  // its samples into the frame on the host, so GPU memory stays bounded by the tile size.
+  const bool tiles_take_turns = tiles.size() > 1;
+  auto read_tile = [&](Frame& into, const Tile& tile, int samples_done, ComposePass::Into how) {
     StageScope scope(timer_, Stage::Readback);
-    uint64_t count = 0;
     for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
       if (into.holds(aov))
-        count += compose_.read(aov, samples_done, into.aovs[aov].data(), into.width, tile.x - x0, tile.y - y0);
-    return count;
+        compose_.read(aov, samples_done, into.aovs[aov].data(), into.width, tile.x - x0, tile.y - y0, how);
   };
   const bool flc = plan.indirect == FramePlan::Indirect::ForwardLightCuts;
   const bool ssvp = plan.indirect == FramePlan::Indirect::Ssvp;
@@ -100,48 +100,53 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
     into.info.samples = samples_done;
     timer_.fill(into.info);
   };
+  auto context_of = [&](const Tile& tile, uint32_t sample, glm::vec2 jitter) {
+    return RenderContext{scene_,
+                         settings,
+                         timer_,
+                         tile.width,
+                         tile.height,
+                         glm::ivec2(tile.x, tile.y),
+                         tile_matrix(camera.width, camera.height, tile.x, tile.y, tile.width, tile.height, jitter) *
+                             projection * world_to_view,
+                         world_to_view,
+                         glm::vec3(view_to_world[3]),
+                         -glm::normalize(glm::vec3(view_to_world[2])),
+                         projection[2][3] == 0.0f,
+                         sample,
+                         seed};
+  };
 
-  for (std::size_t t = 0; t < tiles.size(); ++t) {
-    const Tile& tile = tiles[t];
-    compose_.clear(tile.width, tile.height);
-    for (int s = 0; s < samples; ++s) {
+  // Samples outside, tiles inside: what a sample computes whatever the view (shadow maps, Forward Light Cuts'
+  // VPLs) is computed once and shared by its tiles. ShadowPass keeps each light's map until the sample changes.
+  if (!tiles_take_turns) compose_.clear(tiles[0].width, tiles[0].height);
+  for (int s = 0; s < samples; ++s) {
+    const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
+    const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
+    if (flc) {
       if (callbacks.cancelled()) return false;
-      const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
-      const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
-      const RenderContext context{
-          scene_,
-          settings,
-          timer_,
-          tile.width,
-          tile.height,
-          glm::ivec2(tile.x, tile.y),
-          tile_matrix(camera.width, camera.height, tile.x, tile.y, tile.width, tile.height, jitter) * projection *
-              world_to_view,
-          world_to_view,
-          glm::vec3(view_to_world[3]),
-          -glm::normalize(glm::vec3(view_to_world[2])),
-          projection[2][3] == 0.0f,
-          static_cast<uint32_t>(s),
-          seed};
+      const RenderContext frame_context = context_of({x0, y0, x1 - x0, y1 - y0}, static_cast<uint32_t>(s), jitter);
+      flc_.generate(frame_context);
+      direct_.for_each_shadowed_light(frame_context, shadows_, [&] { flc_.add_light(frame_context); });
+      vpl_count = flc_.vpl_count();
+      divergent_count = flc_.divergent_count();
+    }
+    for (std::size_t t = 0; t < tiles.size(); ++t) {
+      if (callbacks.cancelled()) return false;
+      const Tile& tile = tiles[t];
+      const RenderContext context = context_of(tile, static_cast<uint32_t>(s), jitter);
+      if (tiles_take_turns) compose_.clear(tile.width, tile.height);
       gbuffer_.execute(context);
-      if (flc) flc_.generate(context);
-      const auto light_flc_vpls = [&] {
-        if (flc) flc_.add_light(context);
-      };
-      if (traced_direct) {
+      if (traced_direct)
         traced_direct_.execute(context, gbuffer_.gbuffer(), cpu_scene_);
-        if (flc) direct_.for_each_shadowed_light(context, shadows_, light_flc_vpls);
-      } else {
-        direct_.execute(context, gbuffer_.gbuffer(), shadows_, light_flc_vpls);
-      }
+      else
+        direct_.execute(context, gbuffer_.gbuffer(), shadows_);
+      ComposePass::Indirect indirect;
       if (flc) {
         if (flc_visibility) topology_visibility_.execute(context, gbuffer_.gbuffer());
         flc_.shade(context, gbuffer_.gbuffer(), flc_visibility ? &topology_visibility_ : nullptr);
-        vpl_count = flc_.vpl_count();
-        divergent_count = flc_.divergent_count();
+        if (flc_.active()) indirect = {flc_.indirect(), false, flc_.levels(), 0};
       }
-      ComposePass::Indirect indirect;
-      if (flc && flc_.active()) indirect = {flc_.indirect(), false, flc_.levels(), 0};
       if (ssvp) {
         ssvp_.execute(context, gbuffer_, gbuffer_.gbuffer(), plan.vpl_importance ? &cpu_scene_ : nullptr);
         vpl_count = ssvp_.vpl_count();
@@ -152,25 +157,28 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
       compose_.accumulate(context, gbuffer_.gbuffer(), traced_direct ? traced_direct_.output() : direct_.output(),
                           indirect);
       gl::check("rendering a sample");
+      if (tiles_take_turns)
+        read_tile(*frame, tile, samples, s == 0 ? ComposePass::Into::Replace : ComposePass::Into::Add);
       timer_.resolve();
-      const int done = static_cast<int>(t) * samples + s + 1;
+      const int done = s * static_cast<int>(tiles.size()) + static_cast<int>(t) + 1;
       callbacks.progress(s + 1, static_cast<float>(done) / static_cast<float>(total_steps));
-
-      const bool last = s + 1 == samples;
-      const auto now = std::chrono::steady_clock::now();
-      if (tiles.size() == 1 && !last && (s == 0 || now - last_publish >= kProgressivePublishInterval)) {
-        auto partial = std::make_shared<Frame>();
-        partial->allocate(frame->width, frame->height, aov_bits);
-        partial->info.nonfinite_pixels = read_tile(*partial, tile, s + 1);
-        finish_info(*partial, s + 1);
-        callbacks.publish(partial);
-        last_publish = std::chrono::steady_clock::now();
-      }
     }
-    nonfinite += read_tile(*frame, tile, samples);
+
+    const bool last = s + 1 == samples;
+    const auto now = std::chrono::steady_clock::now();
+    if (!tiles_take_turns && !last && (s == 0 || now - last_publish >= kProgressivePublishInterval)) {
+      auto partial = std::make_shared<Frame>();
+      partial->allocate(frame->width, frame->height, aov_bits);
+      read_tile(*partial, tiles[0], s + 1, ComposePass::Into::Replace);
+      partial->info.nonfinite_pixels = partial->zero_nonfinite();
+      finish_info(*partial, s + 1);
+      callbacks.publish(partial);
+      last_publish = std::chrono::steady_clock::now();
+    }
   }
+  if (!tiles_take_turns) read_tile(*frame, tiles[0], samples, ComposePass::Into::Replace);
   finish_info(*frame, samples);
-  frame->info.nonfinite_pixels = nonfinite;
+  frame->info.nonfinite_pixels = frame->zero_nonfinite();
   callbacks.publish(frame);
   return true;
 }

@@ -13,6 +13,26 @@
 
 namespace bounce {
 
+// Numeric range policy. Bounce computes in float32: rays (Embree asserts on coordinates beyond 1.8e18 and Debian's
+// build keeps its assertions), shadow and reflective shadow maps fitted over the scene's bounds (whose depth maths
+// squares distances: the square of 2e19 is no float), depth buffers and sums of light over many VPLs. Inputs that
+// are finite but beyond what those resolve are handled here, once, when the scene is validated, and counted in
+// BounceSceneStats so that the add-on reports them:
+//   - a triangle with a corner (in its mesh's own space) beyond kMaxCoordinate from the origin is dropped
+//     (out_of_range_triangles), and so is an instance whose world bounds reach beyond it (out_of_range_instances;
+//     GpuScene applies within_range to them): neither is drawn, lit, traced nor counted in the scene's bounds;
+//   - a point, spot or area light placed beyond kMaxCoordinate is skipped (out_of_range_lights); a sun has no
+//     position and is kept;
+//   - a light brighter than kMaxIntensity is dimmed to it, its colour kept, and radii and area sizes beyond
+//     kMaxCoordinate are cut to it (clamped_lights).
+// 1e9 m (a million kilometres, where float32 steps by 64 m) keeps planet-sized scenes while leaving nine orders of
+// magnitude to Embree's limit and the squares of distances; 1e15 W/sr times the largest area or sun disk the range
+// allows (~1e19 m^2) stays a thousand times below FLT_MAX.
+
+bool within_range(glm::vec3 p) {
+  return std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate && std::abs(p.z) <= kMaxCoordinate;
+}
+
 namespace {
 
 bool finite3(const float* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
@@ -67,6 +87,11 @@ std::shared_ptr<const MeshData> prepare_mesh(uint64_t key, const BounceMeshDesc&
                          desc.positions + 3ull * tri[2]};
     if (!finite3(p[0]) || !finite3(p[1]) || !finite3(p[2])) {
       ++mesh->dropped_triangles;
+      continue;
+    }
+    if (!within_range(glm::make_vec3(p[0])) || !within_range(glm::make_vec3(p[1])) ||
+        !within_range(glm::make_vec3(p[2]))) {
+      ++mesh->out_of_range_triangles;
       continue;
     }
     const glm::dvec3 cross = glm::cross(load3(p[1]) - load3(p[0]), load3(p[2]) - load3(p[0]));
@@ -157,9 +182,18 @@ LightList prepare_lights(uint32_t count, const BounceLight* lights) {
       ++list.skipped;
       continue;
     }
-    for (float& c : light.intensity) c = std::max(c, 0.0f);
+    if (light.type != BOUNCE_LIGHT_SUN && !within_range(glm::make_vec3(light.position))) {
+      ++list.out_of_range;
+      continue;
+    }
+    const bool too_large = peak > kMaxIntensity || light.radius > kMaxCoordinate ||
+                           light.half_size[0] > kMaxCoordinate || light.half_size[1] > kMaxCoordinate;
+    list.clamped += too_large ? 1 : 0;
+    const float dimming = std::min(1.0f, kMaxIntensity / peak);
+    for (float& c : light.intensity) c = std::max(c, 0.0f) * dimming;
+    for (float& h : light.half_size) h = std::min(h, kMaxCoordinate);
     orthonormalize_frame(light);
-    light.radius = std::max(light.radius, 0.0f);
+    light.radius = std::clamp(light.radius, 0.0f, kMaxCoordinate);
     light.spot_half_angle = std::clamp(light.spot_half_angle, 0.0f, 3.14159265f);
     light.spot_blend = std::clamp(light.spot_blend, 0.0f, 1.0f);
     light.sun_angle = std::clamp(light.sun_angle, 0.0f, 3.14159265f);

@@ -14,6 +14,17 @@
 
 namespace bounce {
 
+// ---- Numeric range policy (scene_data.cpp explains it) --------------------------------------------------------
+
+// How far from the world origin (metres, per axis) Bounce takes coordinates: vertices, instance bounds, light
+// positions and sizes.
+constexpr float kMaxCoordinate = 1e9f;
+// The largest light intensity (W/sr, W/m^2 or W/m^2/sr per channel) Bounce takes; brighter lights are dimmed to it.
+constexpr float kMaxIntensity = 1e15f;
+
+// Whether every coordinate of p is within kMaxCoordinate (false for NaN).
+bool within_range(glm::vec3 p);
+
 struct Vertex {
   float position[3];
   float normal[3];
@@ -32,7 +43,8 @@ struct SubMesh {  // triangles of one material slot, contiguous in the vertex ar
 struct MeshData {
   std::vector<Vertex> vertices;  // three per triangle, sorted by slot
   std::vector<SubMesh> submeshes;
-  uint64_t dropped_triangles = 0;  // non-finite or zero-area
+  uint64_t dropped_triangles = 0;       // non-finite or zero-area
+  uint64_t out_of_range_triangles = 0;  // a corner beyond kMaxCoordinate
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
   bool empty() const { return vertices.empty(); }
 };
@@ -58,7 +70,9 @@ std::shared_ptr<const InstanceList> prepare_instances(const BounceInstancesDesc&
 struct LightList {
   std::vector<BounceLight> lights;     // finite, with some positive intensity
   std::vector<uint32_t> source_index;  // each one's index in the list the caller gave
-  uint32_t skipped = 0;
+  uint32_t skipped = 0;                // zero or non-finite intensity
+  uint32_t out_of_range = 0;           // a point, spot or area light placed beyond kMaxCoordinate
+  uint32_t clamped = 0;                // dimmed to kMaxIntensity, or sized down to kMaxCoordinate
 };
 
 LightList prepare_lights(uint32_t count, const BounceLight* lights);

@@ -47,7 +47,7 @@ struct DivergentTriangle {
 // Indirect draw commands (glDrawArraysIndirect) whose counts the generating shaders bump.
 layout(std430, binding = 6) coherent buffer FlcCounters {
   uint vpl_draw[4];        // count, instances, first, base instance: the VPLs as points
-  uint divergent_draw[4];  // the divergent triangles as 3-vertex patches
+  uint divergent_draw[4];  // the divergent triangles as instances of one 3-vertex patch (flc_divergent.vert)
   uint vpl_overflow;
   uint divergent_overflow;
 };

@@ -41,9 +41,9 @@ void main() {
     vec4 base = filtered_base_color((v_uv[0] + v_uv[1] + v_uv[2]) / 3.0, uv_triangle_area());
     // Cut-outs: the filtered alpha is the covered fraction, so it scales the reflected light.
     vec3 albedo = cut_out_material ? base.rgb * base.a : base.rgb;
-    uint index = atomicAdd(divergent_draw[0], 3u) / 3u;
+    uint index = atomicAdd(divergent_draw[1], 1u);
     if (index >= flc.divergent_capacity) {
-      atomicAdd(divergent_draw[0], uint(-3));
+      atomicAdd(divergent_draw[1], uint(-1));
       atomicAdd(divergent_overflow, 1u);
       return;
     }

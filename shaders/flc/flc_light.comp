@@ -4,6 +4,7 @@
 #include "shadows/shadow_lookup.glsl"
 
 layout(local_size_x = 64) in;
+#include "common/dispatch.glsl"
 
 layout(location = 0) uniform uint u_vpl_count;
 
@@ -17,7 +18,7 @@ vec3 side_irradiance(vec3 y, vec3 n, uint decorrelation) {
 }
 
 void main() {
-  uint index = gl_GlobalInvocationID.x;
+  uint index = linear_invocation();
   if (index >= u_vpl_count) return;
   vec3 y = vpls[index].position_scale.xyz;
   vec3 n = vpls[index].normal_level.xyz;

@@ -13,6 +13,7 @@
 #include "ssvp/ssvp_common.glsl"
 
 layout(local_size_x = 64) in;
+#include "common/dispatch.glsl"
 
 const float MIN_COSINE = 1e-2;  // a surface seen edge-on stands for a long strip; its area is capped there
 
@@ -21,7 +22,7 @@ layout(binding = 14) uniform sampler2DArray paraboloid_normal;
 layout(binding = 15) uniform sampler2DArray paraboloid_albedo;
 
 void main() {
-  uint g = gl_GlobalInvocationID.x;
+  uint g = linear_invocation();
   if (g >= uint(ssvp.second_count)) return;
   int c = int(g) / ssvp.second_per_cluster;
   int m = int(g) % ssvp.second_per_cluster;

@@ -5,6 +5,7 @@
 #include "ssvp/ssvp_common.glsl"
 
 layout(local_size_x = 64) in;
+#include "common/dispatch.glsl"
 
 layout(binding = 1) uniform sampler2D rsm_albedo;
 layout(binding = 2) uniform sampler2D rsm_normal;
@@ -14,7 +15,7 @@ layout(binding = 5) uniform sampler2D rsm_geometric_normal;
 const float MIN_COSINE = 1e-2;  // grazing texels see a long strip; their area is capped there
 
 void main() {
-  uint k = gl_GlobalInvocationID.x;
+  uint k = linear_invocation();
   if (k >= uint(ssvp.first_count)) return;
   ivec2 atlas = ivec2(ssvp.rsm_faces_x, ssvp.rsm_faces_y) * ssvp.rsm_face_size;
   ivec2 texel = min(ivec2(points[k] * vec2(atlas)), atlas - 1);

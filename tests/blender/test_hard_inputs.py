@@ -29,6 +29,9 @@ CASES = {
                            r"loaded: drawn magenta", True),
     "resolution_1x1": (0, None, True),
     "resolution_large": (0, None, True),
+    "far_geometry": (0, r"Warning: Bounce: 1 triangles farther than 1e9 m from the origin were dropped", True),
+    "far_light": (0, r"Warning: Bounce: 1 lights farther than 1e9 m from the origin were skipped", True),
+    "ortho_scale_zero": (1, r"Error: .*the projection matrix is singular", False),
     "invalid_settings": (1, r"Error: Bounce: setting 'samples' = 0 is outside \[1, 65536\]", False),
     "invalid_enum": (0, None, True),
 }
@@ -66,7 +69,8 @@ def check_finite(path):
 # take minutes at 8192^2; tiles of any size are covered by the native tests).
 METHOD_CASES = [(case, "DIRECT") for case in CASES] + [
     (case, method) for method in ("FLC", "SSVP")
-    for case, (_status, _pattern, image) in CASES.items() if image and case != "resolution_large"]
+    for case, (_status, _pattern, image) in CASES.items() if image and case != "resolution_large"] + [
+    (case, "TOPOLOGY") for case in ("far_geometry", "far_light")]
 
 
 @pytest.mark.parametrize("case,method", METHOD_CASES)
@@ -100,6 +104,12 @@ def test_hard_input(case, method, blender, out_dir):
         assert rgba is not None and rgba[..., :3].max() > 0.0, "the large render is black"
     if case == "invalid_enum":
         assert combined[..., :3].max() > 0.0
+    if case == "far_geometry":
+        assert re.search(r"Warning: Bounce: 1 objects reaching farther than 1e9 m from the origin were left out",
+                         result.output), result.describe()
+        direct = layer_pass(channels, "Direct", "RGB")
+        assert direct.max() > 0.1, "out-of-range geometry must not put out the direct light"
+        assert layer_pass(channels, "Depth", "Z").min() >= 0.0
 
 
 def test_closed_box_blocks_outside_light(blender, out_dir):

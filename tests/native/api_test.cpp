@@ -4,6 +4,7 @@
 #include <string>
 
 #include "bounce/bounce.h"
+#include "gl/objects.h"
 
 TEST(Api, VersionAndSettingsSize) {
   EXPECT_STREQ(bounce_version(), BOUNCE_VERSION_STRING);
@@ -33,4 +34,10 @@ TEST(Api, AovTable) {
   EXPECT_EQ(bounce_aov_channels(BOUNCE_AOV_COUNT), 0);
   EXPECT_STREQ(bounce_aov_name(BOUNCE_AOV_NORMAL), "Normal");
   EXPECT_STREQ(bounce_aov_name(-1), "");
+}
+
+TEST(Api, GlErrorsShowTheirNameAndHexCode) {
+  EXPECT_EQ(bounce::gl::error_name(GL_INVALID_VALUE), "GL_INVALID_VALUE (0x0501)");  // was "0x1281", its decimal
+  EXPECT_EQ(bounce::gl::error_name(0x8cd6), "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT (0x8cd6)");
+  EXPECT_EQ(bounce::gl::error_name(0x1234), "0x1234");
 }

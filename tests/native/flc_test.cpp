@@ -289,3 +289,35 @@ TEST_F(FlcIndirectShadows, DoorwayLetsLightThrough) {
 
 }  // namespace
 }  // namespace bounce::test
+
+namespace bounce::test {
+namespace {
+
+// More VPLs than one dispatch of 64-wide work groups can light (GL guarantees 65,535 groups per dimension; Mesa
+// refuses more with GL_INVALID_VALUE): the corner cut into 784 triangles, each of which the tessellator splits
+// as far as it goes at the smallest near distance.
+TEST_F(FlcHard, MoreVplsThanOneDispatchHolds) {
+  constexpr int kCells = 14;
+  std::vector<glm::vec3> soup;
+  for (int i = 0; i < kCells; ++i)
+    for (int j = 0; j < kCells; ++j) {
+      const float u0 = 2.0f * i / kCells, u1 = 2.0f * (i + 1) / kCells;
+      const float v0 = -1.0f + 2.0f * j / kCells, v1 = -1.0f + 2.0f * (j + 1) / kCells;
+      soup.insert(soup.end(), {{u0, v0, 0}, {u1, v0, 0}, {u1, v1, 0}, {u0, v0, 0}, {u1, v1, 0}, {u0, v1, 0}});
+      soup.insert(soup.end(), {{0, v0, u0}, {0, v1, u1}, {0, v0, u1}, {0, v0, u0}, {0, v1, u0}, {0, v1, u1}});
+    }
+  corner(1.0f);
+  add_soup(1, soup);
+  settings_.samples = 1;
+  settings_.flc_near_distance = 0.001f;  // the setting's minimum
+  const Image indirect = render(BOUNCE_AOV_INDIRECT);
+  BounceFrameInfo info{};
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+  std::printf("VPLs at the minimum near distance: %llu\n", static_cast<unsigned long long>(info.vpl_count));
+  EXPECT_GT(info.vpl_count, 65535ull * 64ull);
+  ASSERT_TRUE(all_finite(indirect));
+  EXPECT_GT(mean_red(indirect), 0.0);
+}
+
+}  // namespace
+}  // namespace bounce::test

@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 4
+#define BOUNCE_API_VERSION 5
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,
@@ -105,8 +105,8 @@ BOUNCE_API BounceStatus bounce_engine_gl_info(BounceEngine* engine, char* buffer
 /* ---- Scene ------------------------------------------------------------------------------------------- */
 
 /* Geometry of one mesh in its object space. Meshes are keyed by the caller (e.g. a hash of the evaluated
- * mesh) and shared by every instance that draws them. Non-finite positions and degenerate triangles are
- * dropped and counted in BounceSceneStats, not fatal. */
+ * mesh) and shared by every instance that draws them. Non-finite positions, degenerate triangles and triangles
+ * out of range are dropped and counted in BounceSceneStats, not fatal. */
 typedef struct BounceMeshDesc {
   uint32_t vertex_count;
   const float* positions; /* 3 * vertex_count */
@@ -192,7 +192,8 @@ typedef struct BounceLight {
   float sun_angle;
 } BounceLight;
 
-/* Replaces the whole light list. Lights with zero or non-finite intensity are skipped and counted. */
+/* Replaces the whole light list. Lights with zero or non-finite intensity are skipped and counted, and so are
+ * lights out of range (BounceSceneStats). */
 BOUNCE_API BounceStatus bounce_lights_set(BounceEngine* engine, uint32_t count, const BounceLight* lights);
 
 typedef struct BounceWorld {
@@ -213,6 +214,12 @@ typedef struct BounceSceneStats {
   uint64_t gpu_bytes; /* geometry + textures */
   float bounds_min[3];
   float bounds_max[3];
+  /* The numeric range policy (native/src/scene_data.cpp): coordinates beyond 1e9 m from the origin and light
+   * intensities beyond 1e15 are more than float32 rays, shadow maps and depth buffers resolve. */
+  uint64_t out_of_range_triangles; /* a corner beyond 1e9 m: dropped */
+  uint32_t out_of_range_instances; /* world bounds reaching beyond 1e9 m: not drawn */
+  uint32_t out_of_range_lights;    /* point, spot or area lights beyond 1e9 m: skipped */
+  uint32_t clamped_lights;         /* intensity dimmed to 1e15, or radius or size cut to 1e9 m */
 } BounceSceneStats;
 
 /* Waits until the queued scene edits are applied on the render thread, then fills the stats. */
@@ -295,7 +302,7 @@ typedef struct BounceFrameInfo {
   uint64_t serial;
   int32_t stage_count;
   BounceStageTime stages[BOUNCE_MAX_STAGES];
-  uint64_t nonfinite_pixels;    /* pixels whose value was NaN/Inf before being zeroed (should be 0) */
+  uint64_t nonfinite_pixels;    /* pixels with a NaN/Inf value in some AOV, which was zeroed (should be 0) */
   uint64_t vpl_count;           /* virtual point lights of the last sample (FLC, SSVP: both bounces) */
   uint64_t divergent_triangles; /* triangles the last sample sent to the tessellator (FLC) */
   int32_t main_light;           /* SSVP: the light that bounces, as its index in bounce_lights_set's list; -1 none */

@@ -373,13 +373,8 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
     auto frame = std::make_shared<Frame>();
     frame->allocate(width, height, method_aovs(BOUNCE_METHOD_TOPOLOGY));
     const float scale = 1.0f / float(samples_done);
-    uint64_t nonfinite = 0;
     auto put = [&](int aov, std::size_t i, const float* value, int channels) {
-      bool finite = true;
-      for (int c = 0; c < channels; ++c) finite = finite && std::isfinite(value[c]);
-      if (!finite) ++nonfinite;
-      float* out = frame->aovs[aov].data() + std::size_t(bounce_aov_channels(aov)) * i;
-      for (int c = 0; c < channels; ++c) out[c] = finite ? value[c] : 0.0f;
+      std::copy(value, value + channels, frame->aovs[aov].data() + std::size_t(bounce_aov_channels(aov)) * i);
     };
     for (std::size_t i = 0; i < pixels; ++i) {
       const bool covered = sums.depth[i] < kBackgroundDepth;
@@ -399,7 +394,7 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
       put(BOUNCE_AOV_DEPTH, i, &sums.depth[i], 1);
       put(BOUNCE_AOV_TOPOLOGY, i, glm::value_ptr(topology_image[i]), 4);
     }
-    frame->info.nonfinite_pixels = nonfinite;
+    frame->info.nonfinite_pixels = frame->zero_nonfinite();
     frame->info.vpl_count = vpls_.size();
     frame->info.cluster_count = static_cast<int32_t>(topo.cluster_count);
     frame->info.main_light = -1;

@@ -1,5 +1,8 @@
 #include "gl/objects.h"
 
+#include <algorithm>
+#include <cstdio>
+
 #include "error.h"
 
 namespace bounce::gl {
@@ -76,8 +79,54 @@ Framebuffer make_framebuffer(const std::vector<GLuint>& colour, GLuint depth, in
     glNamedFramebufferDrawBuffers(id, static_cast<GLsizei>(draw_buffers.size()), draw_buffers.data());
   const GLenum status = glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE)
-    fail(BOUNCE_ERROR_GL, "framebuffer incomplete (status 0x" + std::to_string(status) + ")");
+    fail(BOUNCE_ERROR_GL, "framebuffer incomplete (status " + error_name(status) + ")");
   return framebuffer;
+}
+
+void dispatch_linear(uint64_t invocations, uint32_t local_size) {
+  constexpr uint64_t kMaxGroupsPerDimension = 65535;
+  const uint64_t groups = (invocations + local_size - 1) / local_size;
+  if (groups == 0) return;
+  const uint64_t columns = std::min(groups, kMaxGroupsPerDimension);
+  const uint64_t rows = (groups + columns - 1) / columns;
+  if (rows > kMaxGroupsPerDimension)
+    fail(BOUNCE_ERROR_OUT_OF_MEMORY, "a compute dispatch of " + std::to_string(invocations) + " invocations");
+  glDispatchCompute(static_cast<GLuint>(columns), static_cast<GLuint>(rows), 1);
+}
+
+std::string error_name(GLenum code) {
+  const char* name = nullptr;
+  switch (code) {
+    case GL_INVALID_ENUM:
+      name = "GL_INVALID_ENUM";
+      break;
+    case GL_INVALID_VALUE:
+      name = "GL_INVALID_VALUE";
+      break;
+    case GL_INVALID_OPERATION:
+      name = "GL_INVALID_OPERATION";
+      break;
+    case GL_INVALID_FRAMEBUFFER_OPERATION:
+      name = "GL_INVALID_FRAMEBUFFER_OPERATION";
+      break;
+    case GL_OUT_OF_MEMORY:
+      name = "GL_OUT_OF_MEMORY";
+      break;
+    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT:
+      name = "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT";
+      break;
+    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT:
+      name = "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT";
+      break;
+    case GL_FRAMEBUFFER_UNSUPPORTED:
+      name = "GL_FRAMEBUFFER_UNSUPPORTED";
+      break;
+    default:
+      break;
+  }
+  char hex[16];
+  std::snprintf(hex, sizeof hex, "0x%04x", static_cast<unsigned>(code));
+  return name ? std::string(name) + " (" + hex + ")" : std::string(hex);
 }
 
 void check(const char* what) {
@@ -88,7 +137,7 @@ void check(const char* what) {
   if (error == GL_OUT_OF_MEMORY)
     fail(BOUNCE_ERROR_GL,
          std::string(what) + ": out of GPU memory (lower the resolution, tile size or shadow map size)");
-  fail(BOUNCE_ERROR_GL, std::string(what) + ": GL error 0x" + std::to_string(error));
+  fail(BOUNCE_ERROR_GL, std::string(what) + ": GL error " + error_name(error));
 }
 
 }  // namespace bounce::gl

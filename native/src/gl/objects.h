@@ -3,6 +3,7 @@
 
 #include <epoxy/gl.h>
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,6 +62,13 @@ Texture make_texture_2d(GLenum internal_format, int width, int height, int level
 Texture make_texture_cube(GLenum internal_format, int size);
 Framebuffer make_framebuffer(const std::vector<GLuint>& colour, GLuint depth, int layer = -1);
 
+// Runs the bound compute program over `invocations` invocations of `local_size`-wide work groups. GL promises
+// only 65,535 groups per dimension (Mesa refuses more), so large counts spread over rows of a 2D grid: shaders
+// number their invocations with linear_invocation() of shaders/common/dispatch.glsl and skip those past the count.
+void dispatch_linear(uint64_t invocations, uint32_t local_size);
+
+// "GL_INVALID_VALUE (0x0501)": a GL error or framebuffer status by name and code (just the code when unknown).
+std::string error_name(GLenum code);
 // Raises Error(BOUNCE_ERROR_GL) naming `what` if GL reports an error (out of memory included).
 void check(const char* what);
 

@@ -153,6 +153,32 @@ def case_resolution_large(scene):
     bc.single_layer_exr(scene)
 
 
+def case_far_geometry(scene):
+    """A triangle 1e20 m away in a mesh, an object moved 1e20 m away; hard shadow-mapped shadows of a point light
+    (the far bounds used to zero Direct light everywhere)."""
+    base(scene)
+    cube_mesh(scene, "Cube", 1.0, (0.0, 0.0, 0.5))
+    bc.add_mesh(scene, "FarTriangle", [(0, 0, 1), (1, 0, 1), (0, 1, 1), (1e20, 0, 1), (1e20, 1, 1), (1e20, 0, 2)],
+                [(0, 1, 2), (3, 4, 5)])
+    cube_mesh(scene, "FarCube", 1.0, (0.0, 1e20, 0.0))
+    scene.bounce.shadow_method = "SHADOW_MAPS"
+    scene.bounce.shadow_softness = 0.0
+
+
+def case_far_light(scene):
+    """A point light 1e19 m away beside the usual one (Topology traced its VPL paths from there)."""
+    base(scene)
+    cube_mesh(scene, "Cube", 1.0, (0.0, 0.0, 0.5))
+    add_point_light(scene, 1000.0, (1e19, 0.0, 4.0), name="FarLight")
+
+
+def case_ortho_scale_zero(scene):
+    base(scene)
+    cube_mesh(scene, "Cube", 1.0, (0.0, 0.0, 0.5))
+    scene.camera.data.type = "ORTHO"
+    scene.camera.data.ortho_scale = 0.0  # Blender's camera matrix is then all zeros
+
+
 def case_invalid_settings(scene):
     base(scene)
     cube_mesh(scene, "Cube", 1.0, (0.0, 0.0, 0.5))

@@ -1,6 +1,6 @@
 #include "passes/compose/compose_pass.h"
 
-#include <cmath>
+#include <algorithm>
 
 #include "gl/shader.h"
 
@@ -64,7 +64,7 @@ void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffe
   glDisable(GL_BLEND);
 }
 
-uint64_t ComposePass::read(int aov, int samples, float* frame, int frame_width, int x, int y) const {
+void ComposePass::read(int aov, int samples, float* frame, int frame_width, int x, int y, Into into) const {
   const int channels = bounce_aov_channels(aov);
   const bool depth = aov == BOUNCE_AOV_DEPTH;
   scratch_.resize(std::size_t(width_) * height_ * (depth ? 1 : 4));
@@ -72,18 +72,19 @@ uint64_t ComposePass::read(int aov, int samples, float* frame, int frame_width, 
                     static_cast<GLsizei>(scratch_.size() * sizeof(float)), scratch_.data());
   const float scale = depth ? 1.0f : 1.0f / static_cast<float>(samples);
   const int stride = depth ? 1 : 4;
-  uint64_t nonfinite = 0;
   for (int row = 0; row < height_; ++row) {
     for (int col = 0; col < width_; ++col) {
       const float* src = scratch_.data() + (std::size_t(row) * width_ + col) * stride;
       float* dst = frame + ((std::size_t(y) + row) * frame_width + x + col) * channels;
-      bool finite = true;
-      for (int c = 0; c < channels; ++c) finite = finite && std::isfinite(src[c]);
-      nonfinite += finite ? 0 : 1;
-      for (int c = 0; c < channels; ++c) dst[c] = finite ? src[c] * scale : 0.0f;
+      for (int c = 0; c < channels; ++c) {
+        const float value = src[c] * scale;
+        if (into == Into::Replace)
+          dst[c] = value;
+        else
+          dst[c] = depth ? std::min(dst[c], value) : dst[c] + value;
+      }
     }
   }
-  return nonfinite;
 }
 
 }  // namespace bounce

@@ -23,9 +23,12 @@ class ComposePass {
     GLuint second_bounce = 0;  // irradiance / pi
   };
   void accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct, const Indirect& indirect);
-  // Averages `samples` accumulated samples of AOV `aov` into dst (width * height * channels floats) at the
-  // pixel offset (x, y) of a frame `frame_width` wide; returns how many values were not finite (set to 0).
-  uint64_t read(int aov, int samples, float* frame, int frame_width, int x, int y) const;
+  // Replace: averages `samples` accumulated samples of AOV `aov` into dst (width * height * channels floats) at
+  // the pixel offset (x, y) of a frame `frame_width` wide. Add: the targets hold one sample of `samples`, added
+  // to what the frame holds (Depth: the nearest), for tiles that take turns with the targets.
+  // Frame::zero_nonfinite then clears what is not finite.
+  enum class Into { Replace, Add };
+  void read(int aov, int samples, float* frame, int frame_width, int x, int y, Into into = Into::Replace) const;
 
  private:
   static constexpr int kComposedAovs = 8;  // written by compose.frag at once (GL guarantees 8 draw buffers)

@@ -30,8 +30,7 @@ DirectPass::DirectPass()
           {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "direct/direct.frag"}})),
       light_buffer_(gl::make_buffer(sizeof(LightBlock), nullptr)) {}
 
-void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, ShadowPass& shadows,
-                         const std::function<void()>& after_light) {
+void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, ShadowPass& shadows) {
   if (width_ != context.width || height_ != context.height) {
     direct_ = gl::make_texture_2d(GL_RGBA32F, context.width, context.height);
     framebuffer_ = gl::make_framebuffer({direct_.id()}, 0);
@@ -41,19 +40,16 @@ void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, S
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, zero);
   for_each_shadowed_light(context, shadows, [&] {
-    {
-      StageScope scope(context.timer, Stage::Direct);
-      glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
-      glViewport(0, 0, context.width, context.height);
-      gbuffer.bind_for_reading();
-      glUseProgram(program_.id());
-      glUniform2i(0, context.tile_origin.x, context.tile_origin.y);
-      glEnable(GL_BLEND);
-      glBlendFunc(GL_ONE, GL_ONE);
-      draw_fullscreen_triangle();
-      glDisable(GL_BLEND);
-    }
-    if (after_light) after_light();
+    StageScope scope(context.timer, Stage::Direct);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+    glViewport(0, 0, context.width, context.height);
+    gbuffer.bind_for_reading();
+    glUseProgram(program_.id());
+    glUniform2i(0, context.tile_origin.x, context.tile_origin.y);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    draw_fullscreen_triangle();
+    glDisable(GL_BLEND);
   });
 }
 

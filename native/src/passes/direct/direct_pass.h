@@ -18,12 +18,9 @@ LightBlock make_light_block(const BounceLight& light);
 class DirectPass {
  public:
   DirectPass();
-  // `after_light` runs after each light's draw, with that light's LightBlock and shadow map still bound, so
-  // other passes can use them (Forward Light Cuts lights its VPLs there).
-  void execute(const RenderContext& context, const GBuffer& gbuffer, ShadowPass& shadows,
-               const std::function<void()>& after_light = {});
-  // Each light's shadow map and LightBlock bound in turn for `use`, without drawing the direct light (when
-  // TracedDirectPass lights the pixels, Forward Light Cuts still lights its VPLs by shadow maps).
+  void execute(const RenderContext& context, const GBuffer& gbuffer, ShadowPass& shadows);
+  // Each light's shadow map and LightBlock bound in turn for `use`, without drawing the direct light: Forward
+  // Light Cuts lights its VPLs by them once per sample, before the tiles.
   void for_each_shadowed_light(const RenderContext& context, ShadowPass& shadows, const std::function<void()>& use);
   GLuint output() const { return direct_.id(); }  // RGBA32F
 

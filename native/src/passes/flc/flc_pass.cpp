@@ -38,8 +38,7 @@ uint32_t grown(uint32_t capacity, uint64_t needed) {
 
 }  // namespace
 
-FlcParams make_flc_params(const BounceSettings& settings, float scene_radius, int width, int height, uint32_t seed,
-                          uint32_t sample) {
+FlcParams make_flc_params(const BounceSettings& settings, float scene_radius, uint32_t seed, uint32_t sample) {
   FlcParams p{};
   const float near = settings.flc_near_distance * scene_radius;
   p.s0 = 4.0f * 3.14159265f * near * near / static_cast<float>(std::max(settings.flc_vpls_per_pixel, 1));  // Eq. 1
@@ -51,13 +50,16 @@ FlcParams make_flc_params(const BounceSettings& settings, float scene_radius, in
   p.jitter = settings.flc_jitter;
   p.divergent = settings.flc_divergent;
   p.u_rand = hash_combine(seed, 0x464c4300u + sample);  // Alg. 2: new every progressive sample
-  p.image_width = width;
-  p.image_height = height;
-  p.tile_width = (width + p.tiles_per_axis - 1) / p.tiles_per_axis;
-  p.tile_height = (height + p.tiles_per_axis - 1) / p.tiles_per_axis;
   p.scene_radius = scene_radius;
   p.d0 = near;
   return p;
+}
+
+void set_flc_image(FlcParams& params, int width, int height) {
+  params.image_width = width;
+  params.image_height = height;
+  params.tile_width = (width + params.tiles_per_axis - 1) / params.tiles_per_axis;
+  params.tile_height = (height + params.tiles_per_axis - 1) / params.tiles_per_axis;
 }
 
 FlcPass::FlcPass()
@@ -84,6 +86,13 @@ FlcPass::FlcPass()
   glTextureSubImage2D(noise_.id(), 0, 0, 0, kNoiseSize, kNoiseSize, GL_RED_INTEGER, GL_UNSIGNED_INT, noise.data());
   glTextureParameteri(noise_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(noise_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  // GL draws only into a complete framebuffer, even with rasterization discarded; one without attachments is
+  // complete once it has a size.
+  GLuint target = 0;
+  glCreateFramebuffers(1, &target);
+  glNamedFramebufferParameteri(target, GL_FRAMEBUFFER_DEFAULT_WIDTH, 1);
+  glNamedFramebufferParameteri(target, GL_FRAMEBUFFER_DEFAULT_HEIGHT, 1);
+  generation_target_ = gl::Framebuffer(target);
   GLint max_tess_level = 64;
   glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_tess_level);
   max_tess_level_ = static_cast<float>(max_tess_level);
@@ -95,8 +104,7 @@ void FlcPass::generate(const RenderContext& context) {
   const glm::vec3 extent = context.scene.bounds_max() - context.scene.bounds_min();
   const float scene_radius = 0.5f * glm::length(extent);
   if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
-  params_ =
-      make_flc_params(context.settings, scene_radius, context.width, context.height, context.seed, context.sample);
+  params_ = make_flc_params(context.settings, scene_radius, context.seed, context.sample);
   params_.max_tess_level = max_tess_level_;
   if (!vpls_) {
     vpl_capacity_ = kInitialVplCapacity;
@@ -112,7 +120,7 @@ void FlcPass::generate(const RenderContext& context) {
     glGetNamedBufferSubData(counters_.id(), 0, sizeof counters, &counters);
     if (counters.vpl_overflow == 0 && counters.divergent_overflow == 0) {
       vpl_count_ = counters.vpl_draw[0];
-      divergent_count_ = counters.divergent_draw[0] / 3;
+      divergent_count_ = counters.divergent_draw[1];
       break;
     }
     if (attempt == kMaxRegrowths) fail(BOUNCE_ERROR_INTERNAL, "Forward Light Cuts: VPL buffers kept overflowing");
@@ -132,12 +140,13 @@ void FlcPass::run_pipelines(const RenderContext& context) {
   params_.vpl_capacity = vpl_capacity_;
   params_.divergent_capacity = divergent_capacity_;
   glNamedBufferSubData(params_buffer_.id(), 0, sizeof params_, &params_);
-  const Counters reset{{0, 1, 0, 0}, {0, 1, 0, 0}, 0, 0};
+  const Counters reset{{0, 1, 0, 0}, {3, 0, 0, 0}, 0, 0};
   glNamedBufferSubData(counters_.id(), 0, sizeof reset, &reset);
   glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCountersBinding, counters_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplsBinding, vpls_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDivergentsBinding, divergents_.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, generation_target_.id());
   glEnable(GL_RASTERIZER_DISCARD);
   {
     StageScope scope(context.timer, Stage::FlcRegular);
@@ -168,7 +177,7 @@ void FlcPass::add_light(const RenderContext& context) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplsBinding, vpls_.id());
   glUseProgram(lighting_.id());
   glUniform1ui(0, vpl_count_);
-  glDispatchCompute((vpl_count_ + 63) / 64, 1, 1);
+  gl::dispatch_linear(vpl_count_, 64);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   gl::check("lighting the Forward Light Cuts VPLs");
 }
@@ -195,6 +204,7 @@ void FlcPass::resize(int width, int height, const FlcParams& params) {
 
 void FlcPass::shade(const RenderContext& context, const GBuffer& gbuffer, const TopologyVisibilityPass* visibility) {
   if (vpl_count_ == 0) return;
+  set_flc_image(params_, context.width, context.height);
   resize(context.width, context.height, params_);
   params_.visibility = visibility != nullptr;
   glNamedBufferSubData(params_buffer_.id(), 0, sizeof params_, &params_);

@@ -1,9 +1,10 @@
 // Forward Light Cuts (Laurent et al. 2016): the first diffuse bounce from one VPL per surviving triangle.
-// Shaders: shaders/flc/. Per sample:
+// Shaders: shaders/flc/. Per sample, once for all tiles (the VPLs do not depend on the view):
 //   generate   - regular pipeline: one geometry-shader pass over every triangle (Sec. 4, Alg. 1); divergent
 //                triangles are stored on the GPU and drawn again through the tessellator with
 //                glDrawArraysIndirect (Sec. 6, Alg. 2). VPLs go to a buffer.
 //   add_light  - per light, with its shadow map bound: the direct irradiance E(t_i) at every VPL (Eq. 6).
+// and per tile of the sample:
 //   shade      - splatting of every VPL's support (Eq. 5, 10, 14, 16) into 4^L interleaved sub-images, then
 //                untiling and a depth- and normal-aware blur; plus the VPL-levels debug view (Fig. 3). With
 //                Indirect Shadows, a VPL's splat lights a pixel only where the topology of the empty space lets
@@ -35,9 +36,10 @@ struct FlcParams {
   int32_t visibility;  // 1: the topology's clusters and gates shadow the VPLs (TopologyVisibilityPass bound)
 };
 
-// The pass's parameters for one sample: Eq. 1 (S_0 from N_avg and D_near), Eq. 17-18, the interleaving.
-FlcParams make_flc_params(const BounceSettings& settings, float scene_radius, int width, int height, uint32_t seed,
-                          uint32_t sample);
+// The pass's parameters for one sample: Eq. 1 (S_0 from N_avg and D_near), Eq. 17-18, the interleaving level.
+FlcParams make_flc_params(const BounceSettings& settings, float scene_radius, uint32_t seed, uint32_t sample);
+// The interleaved sub-images of an image (a tile) `width` x `height` (Sec. 6).
+void set_flc_image(FlcParams& params, int width, int height);
 
 class FlcPass {
  public:
@@ -72,6 +74,7 @@ class FlcPass {
   uint32_t vpl_capacity_ = 0, divergent_capacity_ = 0;
   uint32_t vpl_count_ = 0, divergent_count_ = 0;
 
+  gl::Framebuffer generation_target_;  // no attachments: the generating draws rasterize nothing
   gl::Texture tiled_, untiled_, levels_;
   gl::Framebuffer tiled_target_, untiled_target_, levels_target_;
   GLuint resolved_ = 0;

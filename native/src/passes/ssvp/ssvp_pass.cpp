@@ -272,7 +272,7 @@ void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLig
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFirstBinding, first_vpls_.id());
   rsm_.gbuffer.bind_for_reading();
   glUseProgram(sample_program_.id());
-  glDispatchCompute((n + 63) / 64, 1, 1);
+  gl::dispatch_linear(n, 64);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
   gl::check("sampling the first-bounce VPLs");
 }
@@ -432,7 +432,7 @@ void SsvpPass::propagate(const RenderContext& context) {
   glBindTextureUnit(kParaboloidNormalUnit, paraboloid_normal_.id());
   glBindTextureUnit(kParaboloidAlbedoUnit, paraboloid_albedo_.id());
   glUseProgram(propagate_program_.id());
-  glDispatchCompute((second_count_ + 63) / 64, 1, 1);
+  gl::dispatch_linear(second_count_, 64);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   gl::check("propagating the second-bounce VPLs");
 }

@@ -89,15 +89,17 @@ namespace {
 // does: the paper's single gate test let light through any of the cluster's gates, toward any cluster. A view
 // sample outside every cluster has no visibility information and counts every light here (the shading casts it
 // a shadow ray).
+// first_gates: the gates of `from` the walk may leave it by (all of them when empty; light assignment passes those
+// whose cones meet a group of view samples).
 bool reaches(const topology::Topology& topo, const ClusterGraph& graph, uint32_t from, glm::vec3 p, uint32_t to,
-             glm::vec3 x) {
+             glm::vec3 x, std::span<const uint32_t> first_gates = {}) {
   if (from == kNoNode) return false;
   if (to == kNoNode || to == from) return true;
   std::array<uint32_t, TOPOLOGY_WALK_CLUSTERS> walk{from};
   std::size_t walked = 1;
   for (std::size_t head = 0; head < walked; ++head) {
     const uint32_t cluster = walk[head];
-    for (uint32_t g : graph.gates_of[cluster]) {
+    for (uint32_t g : head == 0 && !first_gates.empty() ? first_gates : std::span(graph.gates_of[cluster])) {
       const topology::Gate& gate = topo.gates[g];
       const uint32_t beyond = gate.clusters[0] == cluster ? gate.clusters[1] : gate.clusters[0];
       if (std::find(walk.begin(), walk.begin() + walked, beyond) != walk.begin() + walked || !in_gate_cone(p, gate, x))
@@ -157,6 +159,11 @@ glm::vec3 cluster_colour(uint32_t cluster) {
 struct Assignment {
   uint32_t vpl;
   Test test;
+  uint32_t first_gate = 0, first_gates = 0;  // kGates: the range of the group's gate list its walk may start by
+};
+struct GroupLights {
+  std::vector<Assignment> lights;
+  std::vector<uint32_t> gates;  // the assignments' first gates
 };
 
 // A sphere or a gate (a rectangle) of the Topology pass, drawn where the primary ray meets it before the surface.
@@ -468,7 +475,7 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
     // Clustered shading (Sec. V.B): view samples grouped by screen tile, exponential depth slice and visibility
     // cluster; each group gets a bounding sphere and, in light assignment (Sec. V.C), its list of VPLs.
     std::vector<uint32_t> group_of(pixels, kNoNode);
-    std::vector<std::vector<Assignment>> assigned;
+    std::vector<GroupLights> assigned;
     const bool clusters_and_gates = settings.topology_visibility == 0;
     if (clusters_and_gates && !vpls_.empty()) {
       StageScope scope(timer, Stage::TopologyAssign);
@@ -511,16 +518,18 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
           // Between clusters no gates join, only the VPLs whose light reached a probe that way: a solid wall
           // costs no rays at shading.
           if (test == Test::kShadowRay && cluster != kNoNode && !vpl_lit_by_ray_[l]) continue;
+          GroupLights& group = assigned[g];
           if (test != Test::kGates) {
-            assigned[g].push_back({uint32_t(l), test});
+            group.lights.push_back({uint32_t(l), test});
             continue;
           }
           // The first gate of a walk must open toward the group.
+          const auto first = uint32_t(group.gates.size());
           for (uint32_t gate : graph.gates_of[vpl_cluster_[l]])
-            if (sphere_meets_gate_cone(vpls_[l].position, topo.gates[gate], centre, sphere)) {
-              assigned[g].push_back({uint32_t(l), test});
-              break;
-            }
+            if (sphere_meets_gate_cone(vpls_[l].position, topo.gates[gate], centre, sphere))
+              group.gates.push_back(gate);
+          if (group.gates.size() > first)
+            group.lights.push_back({uint32_t(l), test, first, uint32_t(group.gates.size()) - first});
         }
       });
     }
@@ -542,12 +551,14 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
           };
           if (clusters_and_gates) {
             if (group_of[i] == kNoNode) continue;
-            for (const Assignment& a : assigned[group_of[i]]) {
+            const GroupLights& group = assigned[group_of[i]];
+            for (const Assignment& a : group.lights) {
               const Vpl& vpl = vpls_[a.vpl];
               const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
               // The visibility tests last: most VPLs face away from a given sample.
               if (!(e.r + e.g + e.b > 0.0f)) continue;
-              if (a.test == Test::kGates && !reaches(topo, graph, vpl_cluster_[a.vpl], vpl.position, v.cluster, x))
+              if (a.test == Test::kGates && !reaches(topo, graph, vpl_cluster_[a.vpl], vpl.position, v.cluster, x,
+                                                     std::span(group.gates).subspan(a.first_gate, a.first_gates)))
                 continue;
               if (a.test == Test::kShadowRay && blocked(vpl)) continue;
               add(vpl, e);

@@ -176,7 +176,11 @@ def case_ortho_scale_zero(scene):
     base(scene)
     cube_mesh(scene, "Cube", 1.0, (0.0, 0.0, 0.5))
     scene.camera.data.type = "ORTHO"
-    scene.camera.data.ortho_scale = 0.0  # Blender's camera matrix is then all zeros
+    scene.camera.data.ortho_scale = 0.0  # Blender's camera matrix is then all zeros (3.4, 4.3)
+    projection = scene.camera.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(),
+                                                 x=scene.render.resolution_x, y=scene.render.resolution_y)
+    if projection.determinant() != 0.0:  # 5.2 keeps the matrix regular
+        print("Blender's camera matrix at ortho_scale 0 is regular")
 
 
 def case_invalid_settings(scene):

@@ -141,6 +141,35 @@ TEST_F(NumericRange, FarAndOverbrightLightsAreSkippedOrDimmed) {
   }
 }
 
+// A tilted area light 1 m wide and 2e9 m long (its half size at the range's cap): in float32 its outline, relative
+// to a receiver, collapses onto a line through the receiver, and Lambert's formula normalized a zero vector. Every
+// pixel the light reached was NaN, zeroed and counted. Found by the scene fuzzer (fuzz_repros/).
+TEST_F(NumericRange, AreaLightLongerThanFloatResolvesStaysFinite) {
+  build_floor_and_occluder();
+  BounceLight strip = make_light(BOUNCE_LIGHT_AREA_RECT, {0, 0, 4}, glm::vec3(10.0f));
+  strip.half_size[0] = 0.5f;
+  strip.half_size[1] = 1e9f;
+  // Tilted, so that the long axis has no zero component left exact.
+  const glm::vec3 z = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f)), x = glm::normalize(glm::cross({0, 1, 0}, z));
+  const glm::vec3 y = glm::cross(z, x);
+  std::memcpy(strip.axis_x, &x[0], 12);
+  std::memcpy(strip.axis_y, &y[0], 12);
+  std::memcpy(strip.axis_z, &z[0], 12);
+  set_lights({strip});
+  settings_.topology_resolution = 32;
+  settings_.topology_vpls = 64;
+  for (int shadows : {BOUNCE_SHADOWS_MAPS, BOUNCE_SHADOWS_RAY_TRACED}) {
+    for (int method : {BOUNCE_METHOD_DIRECT, BOUNCE_METHOD_FLC, BOUNCE_METHOD_SSVP, BOUNCE_METHOD_TOPOLOGY}) {
+      settings_.shadow_method = shadows;
+      settings_.method = method;
+      EXPECT_TRUE(all_finite(render(BOUNCE_AOV_DIRECT))) << "method " << method << ", shadows " << shadows;
+      BounceFrameInfo info{};
+      ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+      EXPECT_EQ(info.nonfinite_pixels, 0u) << "method " << method << ", shadows " << shadows;
+    }
+  }
+}
+
 // A triangle with corners 1e14 m out, spanning the view 1 m above the floor: its interpolated positions kept so
 // little precision that Depth read negative or far off. It is beyond the range: left out, the floor and the square
 // show with their own depths.

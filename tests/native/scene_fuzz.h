@@ -53,14 +53,15 @@ constexpr float kFloatMax = std::numeric_limits<float>::max();
 
 // One coordinate: mostly a scene-sized value, sometimes one of the inputs the range policy is about.
 inline float hard_coordinate(Random& random, float extent) {
-  if (!random.chance(0.08f)) return random.uniform(-extent, extent);
+  if (!random.chance(0.03f)) return random.uniform(-extent, extent);
   const float sign = random.chance(0.5f) ? 1.0f : -1.0f;
   return sign * random.pick(std::array{kNaN, kInf, kFloatMax, 1e30f, 1e10f, 1e9f, 1e-30f, 1e-40f, 0.0f});
 }
 
+// Half the lights shine normally, so that the renderers' paths past the light checks run too.
 inline float light_power(Random& random) {
-  return random.pick(std::array{0.0f, -100.0f, 1e-20f, random.uniform(1.0f, 1000.0f), random.uniform(1.0f, 1000.0f),
-                                1e30f, kFloatMax, kNaN});
+  const float normal = random.uniform(1.0f, 1000.0f);
+  return random.chance(0.5f) ? normal : random.pick(std::array{0.0f, -100.0f, 1e-20f, normal, 1e30f, kFloatMax, kNaN});
 }
 
 struct Mesh {
@@ -85,11 +86,16 @@ struct Scene {
 };
 
 // Random triangles over random vertices (some shared, some repeated, rarely an index out of range), or a closed
-// sphere, so that most scenes have surfaces a light can reach.
+// sphere or a floor, so that most scenes have surfaces a light can reach.
 inline Mesh random_mesh(Random& random, uint64_t key) {
   Mesh mesh;
   mesh.key = key;
-  if (random.chance(0.3f)) {
+  const float shape = random.uniform();
+  if (shape < 0.2f) {  // a floor to catch the light
+    const float h = random.uniform(2.0f, 10.0f);
+    mesh.positions = {-h, -h, 0, h, -h, 0, h, h, 0, -h, h, 0};
+    mesh.triangles = {0, 1, 2, 0, 2, 3};
+  } else if (shape < 0.5f) {
     const float radius = random.uniform(0.2f, 3.0f);
     const int segments = random.integer(3, 12), rings = random.integer(2, 8);
     sphere_mesh(radius, segments, rings, mesh.positions, mesh.triangles);
@@ -132,13 +138,13 @@ inline glm::mat4 random_transform(Random& random) {
 inline BounceLight random_light(Random& random) {
   const int type = random.integer(BOUNCE_LIGHT_POINT, BOUNCE_LIGHT_AREA_ELLIPSE);
   const float far = random.pick(std::array{1e5f, 1e9f, 1e10f, 1e30f, kFloatMax});
-  const glm::vec3 position = random.chance(0.8f) ? glm::vec3{random.uniform(-4.0f, 4.0f), random.uniform(-4.0f, 4.0f),
+  const glm::vec3 position = random.chance(0.9f) ? glm::vec3{random.uniform(-4.0f, 4.0f), random.uniform(-4.0f, 4.0f),
                                                              random.uniform(-1.0f, 6.0f)}
                                                  : far * random_direction(random);
   const float power = light_power(random);
   const glm::vec3 tint{random.uniform(), random.uniform(), random.uniform()};
   BounceLight light = make_light(type, position, random.chance(0.8f) ? glm::vec3(power) : power * tint);
-  light.cast_shadow = random.chance(0.9f);
+  light.cast_shadow = random.chance(0.7f);
   if (random.chance(0.7f)) {  // a frame turned toward the scene; else straight down, as make_light leaves it
     const glm::vec3 z = -random_direction(random),
                     helper = std::abs(z.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
@@ -149,17 +155,17 @@ inline BounceLight random_light(Random& random) {
   }
   if (random.chance(0.03f)) light.axis_z[random.integer(0, 2)] = random.pick(std::array{0.0f, kNaN, 1e30f});
   const auto size = [&] {
-    return random.chance(0.9f) ? random.uniform(0.0f, 1.0f)
-                               : random.pick(std::array{1e-30f, 1e20f, kFloatMax, -1.0f, kNaN});
+    return random.chance(0.96f) ? random.uniform(0.0f, 1.0f)
+                                : random.pick(std::array{1e-30f, 1e20f, kFloatMax, -1.0f, kNaN});
   };
   light.radius = size();
   light.half_size[0] = size();
   light.half_size[1] = size();
   light.spot_half_angle =
-      random.chance(0.9f) ? random.uniform(0.0f, kPi / 2) : random.pick(std::array{0.0f, kPi, -1.0f, kNaN});
-  light.spot_blend = random.chance(0.9f) ? random.uniform() : random.pick(std::array{-1.0f, 2.0f, kNaN});
+      random.chance(0.96f) ? random.uniform(0.0f, kPi / 2) : random.pick(std::array{0.0f, kPi, -1.0f, kNaN});
+  light.spot_blend = random.chance(0.96f) ? random.uniform() : random.pick(std::array{-1.0f, 2.0f, kNaN});
   light.spot_cos_falloff = random.chance(0.5f);
-  light.sun_angle = random.chance(0.9f) ? random.uniform(0.0f, kPi / 4) : random.pick(std::array{kPi, -1.0f, kNaN});
+  light.sun_angle = random.chance(0.96f) ? random.uniform(0.0f, kPi / 4) : random.pick(std::array{kPi, -1.0f, kNaN});
   return light;
 }
 
@@ -170,14 +176,15 @@ inline BounceCamera random_camera(Random& random) {
   const float distance = random.chance(0.03f) ? 0.0f : random.uniform(2.0f, 15.0f);  // 0: the eye on the target
   const glm::vec3 eye = target + distance * random_direction(random);
   const glm::mat4 view = glm::lookAt(eye, target, random.chance(0.95f) ? glm::vec3(0, 0, 1) : eye - target);
-  const float near = random.chance(0.9f) ? random.uniform(0.01f, 1.0f) : random.pick(std::array{0.0f, -1.0f, 1e-30f});
-  const float far = random.chance(0.9f) ? random.uniform(20.0f, 100.0f) : random.pick(std::array{near, 1e-3f, 1e30f});
+  const float near = random.chance(0.96f) ? random.uniform(0.01f, 1.0f) : random.pick(std::array{0.0f, -1.0f, 1e-30f});
+  const float far = random.chance(0.96f) ? random.uniform(20.0f, 100.0f) : random.pick(std::array{near, 1e-3f, 1e30f});
   glm::mat4 projection;
   if (random.chance(0.7f)) {
-    const float fov = random.chance(0.9f) ? random.uniform(0.2f, 2.5f) : random.pick(std::array{0.0f, 1e-6f, kPi});
+    const float fov = random.chance(0.96f) ? random.uniform(0.2f, 2.5f) : random.pick(std::array{0.0f, 1e-6f, kPi});
     projection = glm::perspective(fov, random.uniform(0.5f, 2.0f), near, far);
   } else {
-    const float half = random.chance(0.9f) ? random.uniform(0.5f, 10.0f) : random.pick(std::array{0.0f, 1e-30f, 1e30f});
+    const float half =
+        random.chance(0.96f) ? random.uniform(0.5f, 10.0f) : random.pick(std::array{0.0f, 1e-30f, 1e30f});
     projection = glm::ortho(-half, half, -half, half, near - 50.0f, far);
   }
   if (random.chance(0.02f)) {
@@ -285,10 +292,38 @@ inline bool call_ok(BounceStatus status, const char* what, Outcome& outcome) {
   return false;
 }
 
+// The silent black frame check, where it can be decided without a reference renderer: shadows, a light's
+// orientation, range and falloff make a black Direct pass legitimate for most lights, but an unshadowed sun of
+// positive finite power adds intensity * albedo / pi * cos to every surface whose normal faces it, whatever the
+// geometry. When some pixel shows such a surface (Albedo and Normal passes) in a channel the sun has, Direct may
+// not be all zero. (Powers beyond the range are dimmed, not zeroed, and counted: still positive.)
+inline bool sun_must_light(const std::vector<BounceLight>& lights, const Image& albedo, const Image& normal) {
+  for (const BounceLight& light : lights) {
+    // The engine skips a light with any non-finite field (scene_data.cpp, prepare_lights).
+    const float fields[] = {light.position[0], light.position[1],  light.position[2],  light.axis_x[0],
+                            light.axis_x[1],   light.axis_x[2],    light.axis_y[0],    light.axis_y[1],
+                            light.axis_y[2],   light.axis_z[0],    light.axis_z[1],    light.axis_z[2],
+                            light.radius,      light.half_size[0], light.half_size[1], light.spot_half_angle,
+                            light.spot_blend,  light.sun_angle,    light.intensity[0], light.intensity[1],
+                            light.intensity[2]};
+    const glm::vec3 axis = glm::make_vec3(light.axis_z), intensity = glm::make_vec3(light.intensity);
+    if (light.type != BOUNCE_LIGHT_SUN || light.cast_shadow ||
+        !std::ranges::all_of(fields, [](float v) { return std::isfinite(v); }) || !(glm::length(axis) > 1e-3f) ||
+        !glm::all(glm::greaterThan(intensity, glm::vec3(0.0f))))
+      continue;
+    for (int y = 0; y < albedo.height; ++y)
+      for (int x = 0; x < albedo.width; ++x)
+        if (std::max({albedo.at(x, y)[0], albedo.at(x, y)[1], albedo.at(x, y)[2]}) > 0.01f &&
+            glm::dot(glm::make_vec3(normal.at(x, y)), glm::normalize(axis)) > 0.1f)
+          return true;
+  }
+  return false;
+}
+
 // Builds the scene on a fresh engine (so no state of an earlier case, such as SSVP's temporal seeding, reaches
-// this one), renders it and checks what the engine gives back: errors with messages, finite AOVs and a frame
-// whose non-finite pixel count is zero. Scene edits that fail are allowed (their message is checked); the render
-// goes on with what the engine accepted.
+// this one), renders it and checks what the engine gives back: errors with messages, finite AOVs, a frame whose
+// non-finite pixel count is zero, and no silent black frame (sun_must_light). Scene edits that fail are allowed
+// (their message is checked); the render goes on with what the engine accepted.
 inline Outcome run_case(const Scene& scene) {
   Outcome outcome;
   BounceEngine* engine = nullptr;
@@ -330,8 +365,9 @@ inline Outcome run_case(const Scene& scene) {
       if (info.nonfinite_pixels != 0)
         outcome.failures.push_back("the frame reports " + std::to_string(info.nonfinite_pixels) +
                                    " non-finite pixels (zeroed by the engine)");
+      std::array<Image, BOUNCE_AOV_COUNT> aovs;
       for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov) {
-        Image image;
+        Image& image = aovs[aov];
         image.width = info.width;
         image.height = info.height;
         image.channels = bounce_aov_channels(aov);
@@ -341,6 +377,9 @@ inline Outcome run_case(const Scene& scene) {
             !all_finite(image))
           outcome.failures.push_back(std::string("NaN or Inf in the ") + bounce_aov_name(aov) + " pass");
       }
+      if (sun_must_light(scene.lights, aovs[BOUNCE_AOV_ALBEDO], aovs[BOUNCE_AOV_NORMAL]) &&
+          std::ranges::all_of(aovs[BOUNCE_AOV_DIRECT].values, [](float v) { return v == 0.0f; }))
+        outcome.failures.push_back("silent black frame: Direct is all zero under an unshadowed sun facing a surface");
     }
   }
   bounce_engine_destroy(engine);

@@ -38,6 +38,23 @@ TEST(EmbreeShim, RaysEmbreeCannotTakeMissWithoutCallingIt) {
   }
 }
 
+// A sliver from a corner 8e8 m out to two corners 7 m apart: in float32 both edges from the far corner round to the
+// same vector, their cross product is zero, and the hit's normal was NaN (Topology's cluster view then showed NaN
+// pixels, zeroed and counted). Found by the scene fuzzer (fuzz_repros/). Such a hit faces the ray.
+TEST(EmbreeShim, SliverFlattenedByFloatFacesTheRay) {
+  const glm::dvec3 far(-827339392.0, 883924224.0, -283823136.0), a(2.5, 0.2, -3.7), b(-0.3, 1.2, 3.8);
+  embree::Scene scene;
+  scene.add_triangles(std::vector<glm::vec3>{glm::vec3(far), glm::vec3(a), glm::vec3(b)});
+  scene.commit();
+  const glm::dvec3 normal = glm::normalize(glm::cross(a - far, b - far));
+  const glm::dvec3 on_sliver = 0.9 * 0.5 * (a + b) + 0.1 * far;
+  const glm::vec3 dir(-normal);
+  const std::optional<embree::Hit> hit = scene.intersect(glm::vec3(on_sliver + 5.0 * normal), dir, 0.0f, 100.0f);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_NEAR(glm::length(hit->normal), 1.0f, 1e-5f);
+  EXPECT_LT(glm::dot(hit->normal, dir), 0.0f);
+}
+
 TEST(FrameNonFinite, EachPixelCountsOnceWhateverItsAovs) {
   Frame frame;
   frame.allocate(4, 2, (1u << BOUNCE_AOV_COMBINED) | (1u << BOUNCE_AOV_DIRECT) | (1u << BOUNCE_AOV_DEPTH));

@@ -21,8 +21,8 @@
 
 namespace bounce::test::fuzz {
 
-// SplitMix64: defined bit for bit here (unlike the standard distributions), so a seed replays the same scenes
-// with any standard library.
+// SplitMix64 and its own mappings to floats and integers: the standard distributions' output differs between
+// standard libraries, and a seed must replay the same scenes wherever the tests are built.
 class Random {
  public:
   Random(uint64_t seed, uint64_t index) : state_(seed * 0x9E3779B97F4A7C15ull ^ (index + 0x632BE59BD9B4E019ull)) {

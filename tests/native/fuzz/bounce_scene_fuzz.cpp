@@ -1,8 +1,8 @@
 // bounce_scene_fuzz [--seed S] [--cases N] [--minutes M] [--repros DIR] [--verbose]: runs cases 0, 1, ... of seed S
-// (until N cases or M minutes, whichever comes first) and writes a repro file into DIR (default
-// tests/native/fuzz_repros) for each case that fails, so that SceneFuzz.Repros replays it. Each case runs in a child
-// process: a crash, an abort or a hang (over a minute) fails that case alone, and the run goes on. --verbose prints why
-// the engine refused the cases it did not render (an error with its message, which is allowed).
+// (until N cases or M minutes, whichever comes first; 100 cases when neither is given) and writes a repro file into DIR
+// (default tests/native/fuzz_repros) for each case that fails, so that SceneFuzz.Repros replays it. Each case runs in a
+// child process: a crash, an abort or a hang (over a minute) fails that case alone, and the run goes on. --verbose
+// prints why the engine refused the cases it did not render (an error with its message, which is allowed).
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -102,12 +102,11 @@ int main(int argc, char** argv) {
     if (verbose && !result.rendered)
       std::printf("case %llu refused: %s\n", static_cast<unsigned long long>(index), result.refusal.c_str());
     if (result.failure.empty()) continue;
-    const std::string& failure = result.failure;
     ++failed;
     const std::string path = repro_dir + "/seed" + std::to_string(seed) + "_case" + std::to_string(index) + ".txt";
-    write_repro(path, repro, failure);
+    write_repro(path, repro, result.failure);
     std::printf("FAIL seed %llu case %llu: %s\n  repro: %s\n", static_cast<unsigned long long>(seed),
-                static_cast<unsigned long long>(index), failure.c_str(), path.c_str());
+                static_cast<unsigned long long>(index), result.failure.c_str(), path.c_str());
     std::fflush(stdout);
   }
   std::printf("seed %llu: %llu cases in %.2f min, %llu rendered, %llu failed\n", static_cast<unsigned long long>(seed),

@@ -210,7 +210,11 @@ std::optional<Hit> Scene::intersect(glm::vec3 origin, glm::vec3 dir, float tmin,
   hit.u = query.hit.u;
   hit.v = query.hit.v;
   const auto p = triangle(hit.geometry_id, hit.prim_id);
-  hit.normal = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
+  const glm::vec3 cross = glm::cross(p[1] - p[0], p[2] - p[0]);
+  const float length = glm::length(cross);
+  // A sliver that float32 flattens (a corner 1e9 m out, the others a metre apart) has no normal of its own, and
+  // normalizing its zero cross product gave NaN: it faces the ray.
+  hit.normal = length > 0.0f && std::isfinite(length) ? cross / length : -glm::normalize(dir);
   return hit;
 }
 

@@ -37,7 +37,8 @@ struct Hit {
   uint32_t prim_id = 0;      // triangle index within that geometry
   float u = 0.0f, v = 0.0f;  // barycentrics: point = (1 - u - v) p0 + u p1 + v p2
   // Unit geometric normal normalize(cross(p1 - p0, p2 - p0)) (counter-clockwise front face; Embree's own Ng
-  // has the opposite orientation), whichever side the ray came from: triangles are two-sided.
+  // has the opposite orientation), whichever side the ray came from: triangles are two-sided. Where float32
+  // flattens the triangle (a zero cross product), -dir.
   glm::vec3 normal{0.0f};
 };
 

@@ -19,6 +19,10 @@ const float LAMBERT_PI = 3.14159265358979f;
 LAMBERT_INLINE float polygon_projected_solid_angle(vec3 vertices[MAX_POLYGON], int count, vec3 n) {
   float sum = 0.0f;
   for (int i = 0; i < count; ++i) {
+    // A vertex on the receiver has no direction, and its edges subtend nothing: float32 puts one there when an
+    // emitter far larger than its distance collapses to a line through the receiver (a 1 m by 2e9 m strip).
+    if (dot(vertices[i], vertices[i]) == 0.0f || dot(vertices[(i + 1) % count], vertices[(i + 1) % count]) == 0.0f)
+      continue;
     vec3 a = normalize(vertices[i]);
     vec3 b = normalize(vertices[(i + 1) % count]);
     vec3 c = cross(a, b);

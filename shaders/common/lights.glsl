@@ -77,6 +77,7 @@ vec3 light_irradiance(vec3 x, vec3 n, out float above_horizon) {
   vec3 clipped[MAX_POLYGON];
   int clipped_count = clip_to_horizon(polygon, count, n, clipped);
   if (clipped_count < 3) return vec3(0.0);
-  above_horizon = clamp(planar_polygon_area(clipped, clipped_count) / planar_polygon_area(polygon, count), 0.0, 1.0);
+  float area = planar_polygon_area(polygon, count);  // 0 where float32 collapses the outline (see lambert_shared)
+  above_horizon = area > 0.0 ? clamp(planar_polygon_area(clipped, clipped_count) / area, 0.0, 1.0) : 1.0;
   return light.intensity.rgb * polygon_projected_solid_angle(clipped, clipped_count, n);
 }

@@ -38,6 +38,23 @@ TEST(EmbreeShim, RaysEmbreeCannotTakeMissWithoutCallingIt) {
   }
 }
 
+// A sliver from a corner 8e8 m out to two corners 7 m apart: in float32 both edges from the far corner round to the
+// same vector, their cross product is zero, and the hit's normal was NaN (Topology's cluster view then showed NaN
+// pixels, zeroed and counted). Found by the scene fuzzer (fuzz_repros/). Such a hit faces the ray.
+TEST(EmbreeShim, SliverFlattenedByFloatFacesTheRay) {
+  const glm::dvec3 far(-827339392.0, 883924224.0, -283823136.0), a(2.5, 0.2, -3.7), b(-0.3, 1.2, 3.8);
+  embree::Scene scene;
+  scene.add_triangles(std::vector<glm::vec3>{glm::vec3(far), glm::vec3(a), glm::vec3(b)});
+  scene.commit();
+  const glm::dvec3 normal = glm::normalize(glm::cross(a - far, b - far));
+  const glm::dvec3 on_sliver = 0.9 * 0.5 * (a + b) + 0.1 * far;
+  const glm::vec3 dir(-normal);
+  const std::optional<embree::Hit> hit = scene.intersect(glm::vec3(on_sliver + 5.0 * normal), dir, 0.0f, 100.0f);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_NEAR(glm::length(hit->normal), 1.0f, 1e-5f);
+  EXPECT_LT(glm::dot(hit->normal, dir), 0.0f);
+}
+
 TEST(FrameNonFinite, EachPixelCountsOnceWhateverItsAovs) {
   Frame frame;
   frame.allocate(4, 2, (1u << BOUNCE_AOV_COMBINED) | (1u << BOUNCE_AOV_DIRECT) | (1u << BOUNCE_AOV_DEPTH));
@@ -138,6 +155,35 @@ TEST_F(NumericRange, FarAndOverbrightLightsAreSkippedOrDimmed) {
     EXPECT_EQ(info.nonfinite_pixels, 0u) << "method " << method;
     EXPECT_EQ(combined.at(kLitX, kRow)[3], 1.0f) << "method " << method;
     EXPECT_GT(combined.at(kLitX, kRow)[0], 1e12f) << "method " << method;  // 1e15 W/sr at ~5 m
+  }
+}
+
+// A tilted area light 1 m wide and 2e9 m long (its half size at the range's cap): in float32 its outline, relative
+// to a receiver, collapses onto a line through the receiver, and Lambert's formula normalized a zero vector. Every
+// pixel the light reached was NaN, zeroed and counted. Found by the scene fuzzer (fuzz_repros/).
+TEST_F(NumericRange, AreaLightLongerThanFloatResolvesStaysFinite) {
+  build_floor_and_occluder();
+  BounceLight strip = make_light(BOUNCE_LIGHT_AREA_RECT, {0, 0, 4}, glm::vec3(10.0f));
+  strip.half_size[0] = 0.5f;
+  strip.half_size[1] = 1e9f;
+  // Tilted, so that the long axis has no zero component left exact.
+  const glm::vec3 z = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f)), x = glm::normalize(glm::cross({0, 1, 0}, z));
+  const glm::vec3 y = glm::cross(z, x);
+  std::memcpy(strip.axis_x, &x[0], 12);
+  std::memcpy(strip.axis_y, &y[0], 12);
+  std::memcpy(strip.axis_z, &z[0], 12);
+  set_lights({strip});
+  settings_.topology_resolution = 32;
+  settings_.topology_vpls = 64;
+  for (int shadows : {BOUNCE_SHADOWS_MAPS, BOUNCE_SHADOWS_RAY_TRACED}) {
+    for (int method : {BOUNCE_METHOD_DIRECT, BOUNCE_METHOD_FLC, BOUNCE_METHOD_SSVP, BOUNCE_METHOD_TOPOLOGY}) {
+      settings_.shadow_method = shadows;
+      settings_.method = method;
+      EXPECT_TRUE(all_finite(render(BOUNCE_AOV_DIRECT))) << "method " << method << ", shadows " << shadows;
+      BounceFrameInfo info{};
+      ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+      EXPECT_EQ(info.nonfinite_pixels, 0u) << "method " << method << ", shadows " << shadows;
+    }
   }
 }
 

@@ -99,24 +99,23 @@ def progress_text(progress):
     return f"Bounce | Sample {progress.samples_done}/{progress.samples_total}"
 
 
+# What scene validation left out or changed (native/src/scene_data.cpp, where the numeric range policy lives: what
+# float32 rays and shadow maps cannot resolve), one warning per kind.
+_SCENE_STATS_WARNINGS = (
+    ("dropped_triangles", "{} triangles with non-finite or collinear vertices were dropped"),
+    ("skipped_lights", "{} lights with zero or non-finite power were skipped"),
+    ("out_of_range_triangles", "{} triangles farther than 1e9 m from the origin were dropped"),
+    ("out_of_range_instances", "{} objects reaching farther than 1e9 m from the origin were left out"),
+    ("out_of_range_lights", "{} lights farther than 1e9 m from the origin were skipped"),
+    ("clamped_lights", "{} lights brighter than 1e15 or larger than 1e9 m were clamped to those limits"),
+)
+
+
 def _report_scene_stats(stats, reports):
-    if stats.dropped_triangles:
-        reports.warn(f"Bounce: {stats.dropped_triangles} triangles with non-finite or collinear vertices were "
-                     "dropped")
-    if stats.skipped_lights:
-        reports.warn(f"Bounce: {stats.skipped_lights} lights with zero or non-finite power were skipped")
-    # The numeric range policy of native/src/scene_data.cpp: what float32 rays and shadow maps cannot resolve.
-    if stats.out_of_range_triangles:
-        reports.warn(f"Bounce: {stats.out_of_range_triangles} triangles farther than 1e9 m from the origin were "
-                     "dropped")
-    if stats.out_of_range_instances:
-        reports.warn(f"Bounce: {stats.out_of_range_instances} objects reaching farther than 1e9 m from the origin "
-                     "were left out")
-    if stats.out_of_range_lights:
-        reports.warn(f"Bounce: {stats.out_of_range_lights} lights farther than 1e9 m from the origin were skipped")
-    if stats.clamped_lights:
-        reports.warn(f"Bounce: {stats.clamped_lights} lights brighter than 1e15 or larger than 1e9 m were clamped "
-                     "to those limits")
+    for field, message in _SCENE_STATS_WARNINGS:
+        count = getattr(stats, field)
+        if count:
+            reports.warn("Bounce: " + message.format(count))
 
 
 def _write_result(engine, depsgraph, native_engine, info):

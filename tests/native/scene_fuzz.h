@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "render_fixture.h"
@@ -220,18 +221,21 @@ inline BounceSettings random_settings(Random& random) {
   }
 #include "bounce/settings.def"
 #undef BOUNCE_SETTING
-  settings.samples = std::min(settings.samples, 2);
-  settings.bounces = std::min(settings.bounces, 3);
-  settings.shadow_map_size = std::min(settings.shadow_map_size, 256);
-  settings.flc_vpls_per_pixel = std::min(settings.flc_vpls_per_pixel, 4);
-  settings.flc_levels = std::min(settings.flc_levels, 4);
-  settings.ssvp_vpls = std::min(settings.ssvp_vpls, 256);
-  settings.ssvp_second_vpls = std::min(settings.ssvp_second_vpls, 256);
-  settings.ssvp_clusters = std::min(settings.ssvp_clusters, 8);
-  settings.ssvp_rsm_size = std::min(settings.ssvp_rsm_size, 128);
-  settings.ssvp_paraboloid_size = std::min(settings.ssvp_paraboloid_size, 64);
-  settings.topology_resolution = std::min(settings.topology_resolution, 48);
-  settings.topology_vpls = std::min(settings.topology_vpls, 256);
+  constexpr std::pair<int32_t BounceSettings::*, int32_t> kCostCaps[] = {
+      {&BounceSettings::samples, 2},
+      {&BounceSettings::bounces, 3},
+      {&BounceSettings::shadow_map_size, 256},
+      {&BounceSettings::flc_vpls_per_pixel, 4},
+      {&BounceSettings::flc_levels, 4},
+      {&BounceSettings::ssvp_vpls, 256},
+      {&BounceSettings::ssvp_second_vpls, 256},
+      {&BounceSettings::ssvp_clusters, 8},
+      {&BounceSettings::ssvp_rsm_size, 128},
+      {&BounceSettings::ssvp_paraboloid_size, 64},
+      {&BounceSettings::topology_resolution, 48},
+      {&BounceSettings::topology_vpls, 256},
+  };
+  for (const auto& [setting, cap] : kCostCaps) settings.*setting = std::min(settings.*setting, cap);
   if (random.chance(0.02f)) settings.samples = random.pick(std::array{0, -1});  // out of range: an error
   return settings;
 }

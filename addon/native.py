@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 5  # BOUNCE_API_VERSION this module was written against
+API_VERSION = 6  # BOUNCE_API_VERSION this module was written against
 
 LIBRARY_ENV = "BOUNCE_LIBRARY"
 LIBRARY_NAME = "libbounce.so"
@@ -164,12 +164,15 @@ class Light(ctypes.Structure):
                 ("spot_half_angle", _f32),
                 ("spot_blend", _f32),
                 ("spot_cos_falloff", _i32),
-                ("sun_angle", _f32)]
+                ("sun_angle", _f32),
+                ("triangle", _f32 * 4)]
 
 
 class World(ctypes.Structure):
     _fields_ = [("background", _f32 * 3),
-                ("transparent", _i32)]
+                ("transparent", _i32),
+                ("environment_texture", ctypes.c_uint64),
+                ("world_to_environment", _f32 * 9)]
 
 
 class SceneStats(ctypes.Structure):

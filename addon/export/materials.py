@@ -31,7 +31,7 @@ class SurfaceDesc:
     emission: tuple = (0.0, 0.0, 0.0)
 
 
-class _NotUnderstood(Exception):
+class NotUnderstood(Exception):
     """A node setup outside the list above; the message says what."""
 
 
@@ -43,7 +43,7 @@ def describe_material(material, reports):
         return SurfaceDesc(base_color=_rgb(material.diffuse_color))
     try:
         return _describe_node_tree(material)
-    except _NotUnderstood as reason:
+    except NotUnderstood as reason:
         reports.warn(f"Material '{material.name}': {reason}; rendered as diffuse grey {DEFAULT_COLOR[0]}")
         return SurfaceDesc()
 
@@ -56,10 +56,10 @@ def uses_nodes(datablock):
 
 
 def _describe_node_tree(material):
-    output = _active_output(material.node_tree, "OUTPUT_MATERIAL")
+    output = active_output(material.node_tree, "OUTPUT_MATERIAL")
     if output is None:
-        raise _NotUnderstood("no Material Output node")
-    surface_node, _ = _upstream(output.inputs["Surface"])
+        raise NotUnderstood("no Material Output node")
+    surface_node, _ = upstream(output.inputs["Surface"])
     if surface_node is None:
         return SurfaceDesc(base_color=(0.0, 0.0, 0.0))
     desc = _describe_shader(surface_node)
@@ -80,7 +80,7 @@ def _describe_shader(node):
                            emission=_emission(node.inputs["Color"], node.inputs["Strength"]))
     if kind == "MIX_SHADER":
         return _mix_shader(node)
-    raise _NotUnderstood(f"shader node '{node.name}' ({node.bl_label}) is not supported")
+    raise NotUnderstood(f"shader node '{node.name}' ({node.bl_label}) is not supported")
 
 
 def _principled(node):
@@ -98,13 +98,13 @@ def _principled(node):
 
 def _mix_shader(node):
     fac, first, second = node.inputs[0], node.inputs[1], node.inputs[2]
-    first_node, _ = _upstream(first)
-    second_node, _ = _upstream(second)
+    first_node, _ = upstream(first)
+    second_node, _ = upstream(second)
     if not fac.is_linked and fac.default_value in (0.0, 1.0):
         chosen = first_node if fac.default_value == 0.0 else second_node
         return _describe_shader(chosen) if chosen is not None else SurfaceDesc(base_color=(0.0, 0.0, 0.0))
     if first_node is None or first_node.type != "BSDF_TRANSPARENT" or second_node is None:
-        raise _NotUnderstood(f"Mix Shader '{node.name}' is not a Transparent BSDF cut-out")
+        raise NotUnderstood(f"Mix Shader '{node.name}' is not a Transparent BSDF cut-out")
     desc = _describe_shader(second_node)
     _set_cutout(desc, fac)
     return desc
@@ -118,17 +118,17 @@ def _set_cutout(desc, socket):
     node when it versions alpha-clip materials (blend mode CLIP was removed), so chains of them are walked and
     the innermost threshold is the one that counts."""
     threshold = None
-    node, _ = _upstream(socket)
+    node, _ = upstream(socket)
     while node is not None and node.type == "MATH" and node.operation == "GREATER_THAN" \
             and not node.inputs[1].is_linked and not getattr(node, "use_clamp", False):
         if threshold is not None and not 0.0 <= threshold < 1.0:
-            raise _NotUnderstood(f"Math node '{node.name}' is followed by a step at {threshold}, not in [0, 1)")
+            raise NotUnderstood(f"Math node '{node.name}' is followed by a step at {threshold}, not in [0, 1)")
         threshold = float(node.inputs[1].default_value)
         socket = node.inputs[0]
-        node, _ = _upstream(socket)
+        node, _ = upstream(socket)
     alpha_image = _texture_alpha(socket)
     if desc.image is None or desc.image.original != alpha_image.original:
-        raise _NotUnderstood("the cut-out alpha comes from another image than the base colour")
+        raise NotUnderstood("the cut-out alpha comes from another image than the base colour")
     desc.alpha_from_texture = True
     if threshold is not None:
         desc.alpha_threshold = threshold
@@ -136,11 +136,11 @@ def _set_cutout(desc, socket):
 
 def _texture_alpha(socket):
     """The image whose Alpha output feeds `socket`."""
-    node, from_socket = _upstream(socket)
+    node, from_socket = upstream(socket)
     if node is None or node.type != "TEX_IMAGE" or from_socket.name != "Alpha":
-        raise _NotUnderstood(f"input '{socket.name}' is not an Image Texture's Alpha")
+        raise NotUnderstood(f"input '{socket.name}' is not an Image Texture's Alpha")
     if node.image is None:
-        raise _NotUnderstood(f"Image Texture '{node.name}' has no image")
+        raise NotUnderstood(f"Image Texture '{node.name}' has no image")
     return node.image
 
 
@@ -148,7 +148,7 @@ def _color_source(socket):
     """(constant colour, image or None) whose product is the colour fed into `socket`."""
     if not socket.is_linked:
         return _rgb(socket.default_value), None
-    node, from_socket = _upstream(socket)
+    node, from_socket = upstream(socket)
     if node is None:
         return _rgb(socket.default_value), None
     if node.type == "TEX_IMAGE" and from_socket.name == "Color":
@@ -161,9 +161,9 @@ def _color_source(socket):
     if factors is not None:
         (color_a, image_a), (color_b, image_b) = (_color_source(s) for s in factors)
         if image_a is not None and image_b is not None:
-            raise _NotUnderstood(f"'{node.name}' multiplies two images")
+            raise NotUnderstood(f"'{node.name}' multiplies two images")
         return tuple(a * b for a, b in zip(color_a, color_b)), image_a or image_b
-    raise _NotUnderstood(f"colour from node '{node.name}' ({node.bl_label}) is not supported")
+    raise NotUnderstood(f"colour from node '{node.name}' ({node.bl_label}) is not supported")
 
 
 def _multiply_inputs(node):
@@ -185,16 +185,16 @@ def _emission(color_socket, strength_socket):
     strength = 1.0
     if strength_socket is not None:
         if strength_socket.is_linked:
-            raise _NotUnderstood("a linked emission strength is not supported")
+            raise NotUnderstood("a linked emission strength is not supported")
         strength = float(strength_socket.default_value)
     if color_socket.is_linked:
         if strength == 0.0:
             return (0.0, 0.0, 0.0)
-        raise _NotUnderstood("a linked emission colour is not supported")
+        raise NotUnderstood("a linked emission colour is not supported")
     return tuple(c * strength for c in _rgb(color_socket.default_value))
 
 
-def _upstream(socket):
+def upstream(socket):
     """(node, output socket) linked into `socket`, through reroutes; (None, None) when nothing is."""
     while socket.is_linked:
         link = socket.links[0]
@@ -205,12 +205,12 @@ def _upstream(socket):
             socket = node.inputs[0]
             continue
         if node.mute:
-            raise _NotUnderstood(f"node '{node.name}' is muted")
+            raise NotUnderstood(f"node '{node.name}' is muted")
         return node, link.from_socket
     return None, None
 
 
-def _active_output(node_tree, output_type):
+def active_output(node_tree, output_type):
     outputs = [n for n in node_tree.nodes if n.type == output_type]
     active = [n for n in outputs if n.is_active_output]
     return (active or outputs or [None])[0]

@@ -129,7 +129,8 @@ class SceneSync:
                             lambda: self.engine.set_instances(*instance_arrays), "instance_syncs"):
             changed = True
         changed |= self._send("lights", walk.lights, self.engine.set_lights, "light_syncs")
-        world = convert_world(depsgraph.scene, reports)
+        world = convert_world(depsgraph.scene, reports,
+                              lambda image: walk.texture_key(image, image.original.as_pointer()))
         changed |= self._send_bytes("world", bytes(world), lambda: self.engine.set_world(world), "world_syncs")
         changed |= self._remove_unused(walk)
 
@@ -273,7 +274,7 @@ class _Walk:
         image_pointer = None
         if surface.image is not None:
             image_pointer = surface.image.original.as_pointer()
-            out.base_color_texture = self._texture_key(surface.image, image_pointer)
+            out.base_color_texture = self.texture_key(surface.image, image_pointer)
             if out.base_color_texture == native.NO_TEXTURE:
                 out.base_color[:] = MISSING_IMAGE_COLOR
             else:
@@ -281,7 +282,7 @@ class _Walk:
         self.sync.material_cache[pointer] = (out, image_pointer)
         return out
 
-    def _texture_key(self, image, pointer):
+    def texture_key(self, image, pointer):
         self.textures_used.add(pointer)
         textures = self.sync.textures
         key = textures.get(pointer)

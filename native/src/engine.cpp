@@ -90,6 +90,13 @@ void Engine::set_lights(uint32_t count, const BounceLight* lights) {
 void Engine::set_world(const BounceWorld& world) {
   BounceWorld w = world;
   for (float& c : w.background) c = std::isfinite(c) ? std::max(c, 0.0f) : 0.0f;
+  // A non-finite or singular mapping (a Mapping node scaled to 0) maps nothing: the identity instead.
+  const glm::mat3 mapping = glm::make_mat3(w.world_to_environment);
+  const float det = glm::determinant(mapping);
+  if (!std::isfinite(det) || std::abs(det) < 1e-12f) {
+    const glm::mat3 identity(1.0f);
+    std::memcpy(w.world_to_environment, &identity[0][0], sizeof w.world_to_environment);
+  }
   post_scene_edit([this, w] { renderer_->scene().set_world(w); });
 }
 

@@ -247,6 +247,11 @@ std::vector<GpuScene::DrawnPart> GpuScene::drawn_parts() const {
   return parts;
 }
 
+GLuint GpuScene::texture_id(uint64_t key) const {
+  const auto texture = textures_.find(key);
+  return texture == textures_.end() ? 0 : texture->second.texture.id();
+}
+
 const TextureData* GpuScene::texture_data(uint64_t key) const {
   const auto texture = textures_.find(key);
   return texture == textures_.end() ? nullptr : texture->second.data.get();

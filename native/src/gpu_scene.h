@@ -42,7 +42,10 @@ class GpuScene {
     lights_ = std::move(lights);
     ++light_version_;
   }
-  void set_world(const BounceWorld& world) { world_ = world; }
+  void set_world(const BounceWorld& world) {
+    world_ = world;
+    ++world_version_;
+  }
 
   // Rebuilds batches and tables if anything changed since the last call.
   void prepare();
@@ -50,12 +53,14 @@ class GpuScene {
   // discarded by the shaders, per material). GL_PATCHES draws 3-vertex patches for a tessellating program.
   void draw(GLenum mode = GL_TRIANGLES) const;
 
-  const std::vector<BounceLight>& lights() const { return lights_.lights; }
-  uint32_t light_source_index(std::size_t i) const { return lights_.source_index[i]; }
+  // The caller's lamps; a sample lights the scene with SceneLights' list, which starts with them.
+  const std::vector<BounceLight>& lamps() const { return lights_.lights; }
+  uint32_t lamp_source_index(std::size_t i) const { return lights_.source_index[i]; }
   const BounceWorld& world() const { return world_; }
   // Bumped whenever drawn geometry changes (meshes, instances, cut-out materials): shadow maps depend on it.
   uint64_t geometry_version() const { return geometry_version_; }
   uint64_t light_version() const { return light_version_; }
+  uint64_t world_version() const { return world_version_; }
   glm::vec3 bounds_min() const { return bounds_min_; }
   glm::vec3 bounds_max() const { return bounds_max_; }
   bool has_geometry() const { return !batches_.empty(); }
@@ -70,6 +75,8 @@ class GpuScene {
   std::vector<DrawnPart> drawn_parts() const;
   // The pixels of a texture; nullptr for BOUNCE_NO_TEXTURE or a key not set.
   const TextureData* texture_data(uint64_t key) const;
+  // The GL texture of a key; 0 for BOUNCE_NO_TEXTURE or a key not set.
+  GLuint texture_id(uint64_t key) const;
   BounceSceneStats stats() const;
 
  private:
@@ -110,7 +117,7 @@ class GpuScene {
   std::size_t instance_capacity_ = 0, instance_list_capacity_ = 0, material_capacity_ = 0;
   gl::Texture white_texture_;
   bool dirty_ = true;
-  uint64_t geometry_version_ = 1, light_version_ = 1;
+  uint64_t geometry_version_ = 1, light_version_ = 1, world_version_ = 1;
   uint64_t drawn_triangles_ = 0;
   glm::vec3 bounds_min_{0.0f}, bounds_max_{0.0f};
 };

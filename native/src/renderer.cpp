@@ -35,7 +35,7 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
   scene_.prepare();
   const FramePlan plan = plan_frame(settings);
   if (plan.indirect == FramePlan::Indirect::Topology)
-    return topology_.render(scene_, settings, camera, callbacks, timer_);
+    return topology_.render(scene_, scene_lights_, settings, camera, callbacks, timer_);
   glNamedBufferSubData(settings_buffer_.id(), 0, sizeof settings, &settings);
   glBindBufferBase(GL_UNIFORM_BUFFER, binding::kSettingsBlock, settings_buffer_.id());
   int x0 = camera.crop[0], y0 = camera.crop[1], x1 = camera.crop[2], y1 = camera.crop[3];
@@ -100,8 +100,9 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
     into.info.samples = samples_done;
     timer_.fill(into.info);
   };
-  auto context_of = [&](const Tile& tile, uint32_t sample, glm::vec2 jitter) {
+  auto context_of = [&](const Tile& tile, uint32_t sample, glm::vec2 jitter, const std::vector<BounceLight>& lights) {
     return RenderContext{scene_,
+                         lights,
                          settings,
                          timer_,
                          tile.width,
@@ -123,9 +124,11 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
   for (int s = 0; s < samples; ++s) {
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
+    const std::vector<BounceLight>& lights = scene_lights_.sample(scene_, settings, static_cast<uint32_t>(s), seed);
     if (flc) {
       if (callbacks.cancelled()) return false;
-      const RenderContext frame_context = context_of({x0, y0, x1 - x0, y1 - y0}, static_cast<uint32_t>(s), jitter);
+      const RenderContext frame_context =
+          context_of({x0, y0, x1 - x0, y1 - y0}, static_cast<uint32_t>(s), jitter, lights);
       flc_.generate(frame_context);
       direct_.for_each_shadowed_light(frame_context, shadows_, [&] { flc_.add_light(frame_context); });
       vpl_count = flc_.vpl_count();
@@ -134,7 +137,7 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
     for (std::size_t t = 0; t < tiles.size(); ++t) {
       if (callbacks.cancelled()) return false;
       const Tile& tile = tiles[t];
-      const RenderContext context = context_of(tile, static_cast<uint32_t>(s), jitter);
+      const RenderContext context = context_of(tile, static_cast<uint32_t>(s), jitter, lights);
       if (tiles_take_turns) compose_.clear(tile.width, tile.height);
       gbuffer_.execute(context);
       if (traced_direct)
@@ -151,7 +154,8 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
         ssvp_.execute(context, gbuffer_, gbuffer_.gbuffer(), plan.vpl_importance ? &cpu_scene_ : nullptr);
         vpl_count = ssvp_.vpl_count();
         cluster_count = ssvp_.cluster_count();
-        main_light = ssvp_.main_light() < 0 ? -1 : static_cast<int>(scene_.light_source_index(ssvp_.main_light()));
+        const bool lamp = ssvp_.main_light() >= 0 && std::size_t(ssvp_.main_light()) < scene_lights_.lamp_count();
+        main_light = lamp ? static_cast<int>(scene_.lamp_source_index(std::size_t(ssvp_.main_light()))) : -1;
         if (ssvp_.active()) indirect = {ssvp_.indirect(), true, ssvp_.debug(), ssvp_.second()};
       }
       compose_.accumulate(context, gbuffer_.gbuffer(), traced_direct ? traced_direct_.output() : direct_.output(),

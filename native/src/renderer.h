@@ -25,6 +25,7 @@
 #include "passes/ssvp/ssvp_pass.h"
 #include "passes/topology_visibility/topology_visibility_pass.h"
 #include "render_callbacks.h"
+#include "scene_lights.h"
 #include "stage_timer.h"
 
 namespace bounce {
@@ -44,6 +45,7 @@ class Renderer {
 
  private:
   GpuScene scene_;
+  SceneLights scene_lights_;
   cpu::CpuScene cpu_scene_;  // Embree's copy of the scene: ray-traced direct light and the Topology method
   StageTimer timer_;
   gl::Buffer settings_buffer_;  // the `Settings` uniform block of every shader

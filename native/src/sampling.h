@@ -44,4 +44,10 @@ inline glm::vec2 concentric_disk(glm::vec2 u) {
   return {r * std::cos(phi), r * std::sin(phi)};
 }
 
+// A uniform point of triangle (a, b, c) from u in [0,1)^2 (area-preserving square-root map).
+inline glm::vec3 uniform_triangle_point(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec2 u) {
+  const float s = std::sqrt(u.x);
+  return (1.0f - s) * a + s * (1.0f - u.y) * b + s * u.y * c;
+}
+
 }  // namespace bounce

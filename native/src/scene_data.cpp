@@ -1,6 +1,7 @@
 #include "scene_data.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -56,6 +57,18 @@ void orthonormalize_frame(BounceLight& light) {
     light.axis_y[i] = static_cast<float>(y[i]);
     light.axis_z[i] = static_cast<float>(z[i]);
   }
+}
+
+const std::array<float, 256>& srgb_to_linear() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) {
+      const float c = float(i) / 255.0f;
+      t[std::size_t(i)] = c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+    }
+    return t;
+  }();
+  return table;
 }
 
 }  // namespace
@@ -164,21 +177,64 @@ std::shared_ptr<const InstanceList> prepare_instances(const BounceInstancesDesc&
   return list;
 }
 
+std::array<glm::vec3, 3> triangle_light_corners(const BounceLight& light) {
+  const glm::vec3 a = glm::make_vec3(light.position), x = glm::make_vec3(light.axis_x),
+                  y = glm::make_vec3(light.axis_y);
+  return {a, a + light.triangle[0] * x + light.triangle[1] * y, a + light.triangle[2] * x + light.triangle[3] * y};
+}
+
+float triangle_light_area(const BounceLight& light) {
+  return 0.5f * std::abs(light.triangle[0] * light.triangle[3] - light.triangle[1] * light.triangle[2]);
+}
+
+float emitting_area(const BounceLight& light) {
+  switch (light.type) {
+    case BOUNCE_LIGHT_AREA_TRIANGLE:
+      return 2.0f * triangle_light_area(light);
+    case BOUNCE_LIGHT_AREA_RECT:
+      return 4.0f * light.half_size[0] * light.half_size[1];
+    default:
+      return 3.14159265f * light.half_size[0] * light.half_size[1];
+  }
+}
+
+BounceLight make_triangle_light(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 radiance) {
+  BounceLight light{};
+  light.type = BOUNCE_LIGHT_AREA_TRIANGLE;
+  light.cast_shadow = 1;
+  const glm::vec3 x = glm::normalize(b - a), z = glm::normalize(glm::cross(b - a, c - a)), y = glm::cross(z, x);
+  for (int i = 0; i < 3; ++i) {
+    light.position[i] = a[i];
+    light.axis_x[i] = x[i];
+    light.axis_y[i] = y[i];
+    light.axis_z[i] = z[i];
+    light.intensity[i] = radiance[i];
+  }
+  light.triangle[0] = glm::length(b - a);
+  light.triangle[1] = 0.0f;
+  light.triangle[2] = glm::dot(c - a, x);
+  light.triangle[3] = glm::dot(c - a, y);
+  return light;
+}
+
 LightList prepare_lights(uint32_t count, const BounceLight* lights) {
   require(count == 0 || lights, "lights: NULL array");
   LightList list;
   for (uint32_t i = 0; i < count; ++i) {
     BounceLight light = lights[i];
-    require(light.type >= BOUNCE_LIGHT_POINT && light.type <= BOUNCE_LIGHT_AREA_ELLIPSE,
+    require(light.type >= BOUNCE_LIGHT_POINT && light.type <= BOUNCE_LIGHT_AREA_TRIANGLE,
             "light " + std::to_string(i) + ": unknown type " + std::to_string(light.type));
-    const bool finite = finite3(light.position) && finite3(light.axis_x) && finite3(light.axis_y) &&
-                        finite3(light.axis_z) && finite3(light.intensity) && std::isfinite(light.radius) &&
-                        std::isfinite(light.half_size[0]) && std::isfinite(light.half_size[1]) &&
-                        std::isfinite(light.spot_half_angle) && std::isfinite(light.spot_blend) &&
-                        std::isfinite(light.sun_angle);
+    const bool finite =
+        finite3(light.position) && finite3(light.axis_x) && finite3(light.axis_y) && finite3(light.axis_z) &&
+        finite3(light.intensity) && std::isfinite(light.radius) && std::isfinite(light.half_size[0]) &&
+        std::isfinite(light.half_size[1]) && std::isfinite(light.spot_half_angle) && std::isfinite(light.spot_blend) &&
+        std::isfinite(light.sun_angle) && std::isfinite(light.triangle[0]) && std::isfinite(light.triangle[1]) &&
+        std::isfinite(light.triangle[2]) && std::isfinite(light.triangle[3]);
     const float peak = std::max({light.intensity[0], light.intensity[1], light.intensity[2]});
     const bool area = light.type == BOUNCE_LIGHT_AREA_RECT || light.type == BOUNCE_LIGHT_AREA_ELLIPSE;
-    if (!finite || !(peak > 0.0f) || (area && !(light.half_size[0] > 0.0f && light.half_size[1] > 0.0f))) {
+    const bool triangle = light.type == BOUNCE_LIGHT_AREA_TRIANGLE;
+    if (!finite || !(peak > 0.0f) || (area && !(light.half_size[0] > 0.0f && light.half_size[1] > 0.0f)) ||
+        (triangle && !(triangle_light_area(light) > 0.0f))) {
       ++list.skipped;
       continue;
     }
@@ -187,11 +243,14 @@ LightList prepare_lights(uint32_t count, const BounceLight* lights) {
       continue;
     }
     const bool too_large = peak > kMaxIntensity || light.radius > kMaxCoordinate ||
-                           light.half_size[0] > kMaxCoordinate || light.half_size[1] > kMaxCoordinate;
+                           light.half_size[0] > kMaxCoordinate || light.half_size[1] > kMaxCoordinate ||
+                           std::any_of(std::begin(light.triangle), std::end(light.triangle),
+                                       [](float c) { return std::abs(c) > kMaxCoordinate; });
     list.clamped += too_large ? 1 : 0;
     const float dimming = std::min(1.0f, kMaxIntensity / peak);
     for (float& c : light.intensity) c = std::max(c, 0.0f) * dimming;
     for (float& h : light.half_size) h = std::min(h, kMaxCoordinate);
+    for (float& c : light.triangle) c = std::clamp(c, -kMaxCoordinate, kMaxCoordinate);
     orthonormalize_frame(light);
     light.radius = std::clamp(light.radius, 0.0f, kMaxCoordinate);
     light.spot_half_angle = std::clamp(light.spot_half_angle, 0.0f, 3.14159265f);
@@ -246,6 +305,31 @@ BounceMaterial default_material() {
   m.alpha_threshold = 0.5f;
   m.double_sided = 1;
   return m;
+}
+
+glm::vec4 texture_texel(const TextureData& texture, int x, int y) {
+  x = ((x % texture.width) + texture.width) % texture.width;  // GL_REPEAT, as the GPU samples
+  y = ((y % texture.height) + texture.height) % texture.height;
+  const std::size_t index = std::size_t(y) * std::size_t(texture.width) + std::size_t(x);
+  if (texture.format == BOUNCE_TEXTURE_RGBA32F) {
+    const auto* f = reinterpret_cast<const float*>(texture.bytes.data()) + 4 * index;
+    return {f[0], f[1], f[2], f[3]};
+  }
+  const unsigned char* b = texture.bytes.data() + 4 * index;
+  if (texture.format == BOUNCE_TEXTURE_RGBA8_SRGB)
+    return {srgb_to_linear()[b[0]], srgb_to_linear()[b[1]], srgb_to_linear()[b[2]], float(b[3]) / 255.0f};
+  return glm::vec4(b[0], b[1], b[2], b[3]) / 255.0f;
+}
+
+glm::vec4 texture_sample(const TextureData& texture, glm::vec2 uv) {
+  const float x = uv.x * float(texture.width) - 0.5f, y = uv.y * float(texture.height) - 0.5f;
+  if (!std::isfinite(x) || !std::isfinite(y) || std::abs(x) > 1e8f || std::abs(y) > 1e8f)
+    return texture_texel(texture, 0, 0);
+  const float fx = std::floor(x), fy = std::floor(y);
+  const int x0 = int(fx), y0 = int(fy);
+  const float tx = x - fx, ty = y - fy;
+  return (1 - ty) * ((1 - tx) * texture_texel(texture, x0, y0) + tx * texture_texel(texture, x0 + 1, y0)) +
+         ty * ((1 - tx) * texture_texel(texture, x0, y0 + 1) + tx * texture_texel(texture, x0 + 1, y0 + 1));
 }
 
 }  // namespace bounce

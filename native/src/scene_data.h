@@ -3,6 +3,7 @@
 // unit-tested without a context.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -77,6 +78,16 @@ struct LightList {
 
 LightList prepare_lights(uint32_t count, const BounceLight* lights);
 
+// A BOUNCE_LIGHT_AREA_TRIANGLE's corners in world space, and its area (one side).
+std::array<glm::vec3, 3> triangle_light_corners(const BounceLight& light);
+float triangle_light_area(const BounceLight& light);
+// An area light's emitting area: its surface, both sides of a triangle counted.
+float emitting_area(const BounceLight& light);
+
+// A triangle light from world-space corners, with radiance `radiance` on both sides; its frame is orthonormal
+// (x along the first edge, z the normal), as the shadow cube maps need.
+BounceLight make_triangle_light(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 radiance);
+
 std::vector<BounceMaterial> prepare_materials(uint32_t count, const BounceMaterial* materials);
 
 struct TextureData {
@@ -87,6 +98,11 @@ struct TextureData {
 
 std::shared_ptr<const TextureData> prepare_texture(uint64_t key, int32_t width, int32_t height, int32_t format,
                                                    const void* pixels);
+
+// Texel (x, y) in linear colour, wrapping like GL_REPEAT; and the bilinear lookup at uv, rows bottom first, like
+// the GPU's GL_LINEAR at level 0.
+glm::vec4 texture_texel(const TextureData& texture, int x, int y);
+glm::vec4 texture_sample(const TextureData& texture, glm::vec2 uv);
 
 // The material every slot without one uses: grey 0.8, like Blender's default surface.
 BounceMaterial default_material();

@@ -7,6 +7,7 @@ const int LIGHT_SPOT = 1;
 const int LIGHT_SUN = 2;
 const int LIGHT_AREA_RECT = 3;
 const int LIGHT_AREA_ELLIPSE = 4;
+const int LIGHT_AREA_TRIANGLE = 5;
 
 const int SHADOW_NONE = 0;
 const int SHADOW_ORTHOGRAPHIC = 1;
@@ -21,6 +22,7 @@ layout(std140, binding = 4) uniform LightBlock {
   vec4 intensity;             // rgb: W/sr (point, spot), W/m^2 (sun), W/m^2/sr (area)
   vec4 shape;                 // radius, half size x, half size y, spot half angle
   vec4 spot_sun;              // spot blend, spot cos falloff (0/1), sun angle, -
+  vec4 triangle;              // triangle: its second and third corners in (axis_x, axis_y) from position
   vec4 shadow_origin;         // xyz: this sample's point on the light (cube, perspective) or direction (sun)
   mat4 shadow_view_projection;
   vec4 shadow_params;         // x kind, y texel size factor, z near, w far
@@ -45,6 +47,12 @@ float spot_attenuation(vec3 from_light) {
 
 // The emitter outline of this light in world space.
 int area_light_polygon(out vec3 vertices[MAX_POLYGON]) {
+  if (light_type() == LIGHT_AREA_TRIANGLE) {
+    vertices[0] = light.position_type.xyz;
+    vertices[1] = light.position_type.xyz + light.triangle.x * light.axis_x.xyz + light.triangle.y * light.axis_y.xyz;
+    vertices[2] = light.position_type.xyz + light.triangle.z * light.axis_x.xyz + light.triangle.w * light.axis_y.xyz;
+    return 3;
+  }
   return emitter_polygon(light.position_type.xyz, light.axis_x.xyz * light.shape.y, light.axis_y.xyz * light.shape.z,
                          light_type() == LIGHT_AREA_RECT, vertices);
 }
@@ -69,8 +77,8 @@ vec3 light_irradiance(vec3 x, vec3 n, out float above_horizon) {
     if (type == LIGHT_SPOT) falloff *= spot_attenuation(-l);
     return light.intensity.rgb * falloff;
   }
-  // Area: only the side facing -axis_z emits.
-  if (dot(-to_light, -light.axis_z.xyz) <= 0.0) return vec3(0.0);
+  // Area: only the side facing -axis_z emits; a triangle (an emissive mesh's) emits from both, as in Cycles.
+  if (type != LIGHT_AREA_TRIANGLE && dot(-to_light, -light.axis_z.xyz) <= 0.0) return vec3(0.0);
   vec3 polygon[MAX_POLYGON];
   int count = area_light_polygon(polygon);
   for (int i = 0; i < count; ++i) polygon[i] -= x;

@@ -9,10 +9,16 @@ layout(binding = 8) uniform sampler2D direct_light;
 layout(binding = 11) uniform sampler2D indirect_light;
 layout(binding = 12) uniform sampler2D vpls;
 
+layout(binding = 13) uniform sampler2D environment;
+
 layout(location = 0) uniform vec3 u_background;
 layout(location = 1) uniform float u_background_alpha;
 layout(location = 2) uniform int u_has_indirect;
 layout(location = 3) uniform int u_indirect_times_albedo;
+layout(location = 4) uniform int u_has_environment;
+layout(location = 5) uniform mat3 u_world_to_environment;
+layout(location = 6) uniform mat4 u_clip_to_world;  // of this tile, jittered
+layout(location = 7) uniform vec2 u_tile_size;
 
 layout(location = 0) out vec4 out_combined;
 layout(location = 1) out vec4 out_direct;
@@ -24,13 +30,25 @@ layout(location = 6) out vec4 out_indirect;
 layout(location = 7) out vec4 out_vpls;
 
 const float BACKGROUND_DEPTH = 1e10;  // Blender's Depth pass value where nothing is hit
+const float PI = 3.14159265358979;
+
+// The world's radiance toward the view ray of this pixel (bounce.h, BounceWorld; native/src/scene_lights.cpp).
+vec3 world_radiance() {
+  if (u_has_environment == 0) return u_background;
+  vec2 ndc = gl_FragCoord.xy / u_tile_size * 2.0 - 1.0;
+  vec4 near = u_clip_to_world * vec4(ndc, -1.0, 1.0);
+  vec4 far = u_clip_to_world * vec4(ndc, 1.0, 1.0);
+  vec3 e = normalize(u_world_to_environment * (far.xyz / far.w - near.xyz / near.w));
+  vec2 uv = vec2(atan(e.y, -e.x) / (2.0 * PI) + 0.5, atan(e.z, length(e.xy)) / PI + 0.5);
+  return u_background * textureLod(environment, uv, 0.0).rgb;  // level 0: the seam at u = 0 has no derivative
+}
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec4 albedo = texelFetch(g_albedo, pixel, 0);
   out_vpls = u_has_indirect != 0 ? vec4(texelFetch(vpls, pixel, 0).rgb, 0.0) : vec4(0.0);
   if (albedo.a == 0.0) {
-    out_combined = vec4(u_background, u_background_alpha);
+    out_combined = vec4(world_radiance(), u_background_alpha);
     out_direct = out_emission = out_albedo = out_normal = out_indirect = vec4(0.0);
     out_depth = vec4(BACKGROUND_DEPTH);
     return;

@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 5
+#define BOUNCE_API_VERSION 6
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,
@@ -165,8 +165,9 @@ typedef enum BounceLightType {
   BOUNCE_LIGHT_POINT = 0,
   BOUNCE_LIGHT_SPOT = 1,
   BOUNCE_LIGHT_SUN = 2,
-  BOUNCE_LIGHT_AREA_RECT = 3,   /* rectangle or square */
-  BOUNCE_LIGHT_AREA_ELLIPSE = 4 /* disk or ellipse */
+  BOUNCE_LIGHT_AREA_RECT = 3,    /* rectangle or square */
+  BOUNCE_LIGHT_AREA_ELLIPSE = 4, /* disk or ellipse */
+  BOUNCE_LIGHT_AREA_TRIANGLE = 5 /* two-sided; the core turns emissive triangles into these */
 } BounceLightType;
 
 /* A light in radiometric units (the add-on converts Blender's units, see addon/export/lights.py):
@@ -175,7 +176,9 @@ typedef enum BounceLightType {
  *                to the axis, and times cos phi when spot_cos_falloff is set (Blender 3.x).
  *   sun:         intensity = irradiance (W/m^2) on a surface facing the light; angle = angular diameter.
  *   area:        intensity = radiance (W/m^2/sr) of the Lambertian emitting side, which faces -axis_z.
- *                half_size = half extents along axis_x, axis_y (world units, object scale applied). */
+ *                half_size = half extents along axis_x, axis_y (world units, object scale applied).
+ *   triangle:    intensity = radiance of both sides; corners position and position + triangle[0..1], position +
+ *                triangle[2..3] in (axis_x, axis_y) coordinates; axis_z is the triangle's normal. */
 typedef struct BounceLight {
   int32_t type;
   int32_t cast_shadow;
@@ -190,15 +193,22 @@ typedef struct BounceLight {
   float spot_blend;
   int32_t spot_cos_falloff;
   float sun_angle;
+  float triangle[4]; /* triangle: its second and third corners in the light's frame (x, y), from position */
 } BounceLight;
 
 /* Replaces the whole light list. Lights with zero or non-finite intensity are skipped and counted, and so are
  * lights out of range (BounceSceneStats). */
 BOUNCE_API BounceStatus bounce_lights_set(BounceEngine* engine, uint32_t count, const BounceLight* lights);
 
+/* The world: radiance arriving from every direction, seen where no surface is hit and lighting the scene (see
+ * BounceSettings.world_lights). Radiance toward direction d is background times, with an environment, the
+ * texture at the equirectangular coordinates (Blender's: u = atan2(e.y, -e.x) / 2 pi + 0.5, v = atan2(e.z,
+ * hypot(e.x, e.y)) / pi + 0.5) of e = world_to_environment * d. */
 typedef struct BounceWorld {
-  float background[3]; /* radiance seen where no surface is hit */
-  int32_t transparent; /* background alpha 0 instead of 1 */
+  float background[3];           /* radiance, or the environment's factor (colour * strength) */
+  int32_t transparent;           /* background alpha 0 instead of 1 */
+  uint64_t environment_texture;  /* a texture key (bounce_texture_set), or BOUNCE_NO_TEXTURE for a uniform world */
+  float world_to_environment[9]; /* column-major 3x3 applied to a direction before the lookup (Mapping node) */
 } BounceWorld;
 
 BOUNCE_API BounceStatus bounce_world_set(BounceEngine* engine, const BounceWorld* world);
@@ -305,7 +315,8 @@ typedef struct BounceFrameInfo {
   uint64_t nonfinite_pixels;    /* pixels with a NaN/Inf value in some AOV, which was zeroed (should be 0) */
   uint64_t vpl_count;           /* virtual point lights of the last sample (FLC, SSVP: both bounces) */
   uint64_t divergent_triangles; /* triangles the last sample sent to the tessellator (FLC) */
-  int32_t main_light;           /* SSVP: the light that bounces, as its index in bounce_lights_set's list; -1 none */
+  int32_t main_light;           /* SSVP: the light that bounces, as its index in bounce_lights_set's list; -1: none, or
+                                   the world or an emissive surface */
   int32_t cluster_count;        /* SSVP: k-means clusters of the last sample; TOPOLOGY: visibility clusters */
 } BounceFrameInfo;
 

@@ -14,46 +14,6 @@
 #include "cpu/random.h"
 
 namespace bounce::cpu {
-namespace {
-
-const std::array<float, 256>& srgb_to_linear() {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) {
-      const float c = float(i) / 255.0f;
-      t[std::size_t(i)] = c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-    }
-    return t;
-  }();
-  return table;
-}
-
-glm::vec4 texel(const TextureData& texture, int x, int y) {
-  x = ((x % texture.width) + texture.width) % texture.width;  // GL_REPEAT, as the GPU samples
-  y = ((y % texture.height) + texture.height) % texture.height;
-  const std::size_t index = std::size_t(y) * std::size_t(texture.width) + std::size_t(x);
-  if (texture.format == BOUNCE_TEXTURE_RGBA32F) {
-    const auto* f = reinterpret_cast<const float*>(texture.bytes.data()) + 4 * index;
-    return {f[0], f[1], f[2], f[3]};
-  }
-  const unsigned char* b = texture.bytes.data() + 4 * index;
-  if (texture.format == BOUNCE_TEXTURE_RGBA8_SRGB)
-    return {srgb_to_linear()[b[0]], srgb_to_linear()[b[1]], srgb_to_linear()[b[2]], float(b[3]) / 255.0f};
-  return glm::vec4(b[0], b[1], b[2], b[3]) / 255.0f;
-}
-
-// Bilinear, rows bottom first, like the GPU's GL_LINEAR level 0.
-glm::vec4 sample(const TextureData& texture, glm::vec2 uv) {
-  const float x = uv.x * float(texture.width) - 0.5f, y = uv.y * float(texture.height) - 0.5f;
-  if (!std::isfinite(x) || !std::isfinite(y) || std::abs(x) > 1e8f || std::abs(y) > 1e8f) return texel(texture, 0, 0);
-  const float fx = std::floor(x), fy = std::floor(y);
-  const int x0 = int(fx), y0 = int(fy);
-  const float tx = x - fx, ty = y - fy;
-  return (1 - ty) * ((1 - tx) * texel(texture, x0, y0) + tx * texel(texture, x0 + 1, y0)) +
-         ty * ((1 - tx) * texel(texture, x0, y0 + 1) + tx * texel(texture, x0 + 1, y0 + 1));
-}
-
-}  // namespace
 
 bool CpuScene::sync(const GpuScene& scene) {
   if (scene.geometry_version() == version_) return false;
@@ -115,7 +75,7 @@ bool CpuScene::clear_between(glm::vec3 from, glm::vec3 to, float end_gap) const 
 bool CpuScene::has_surface(const embree::Hit& hit) const {
   const Material& material = materials_[material_of_[hit.prim_id]];
   float alpha = material.alpha;
-  if (material.alpha_from_texture) alpha *= sample(*material.texture, uv(hit.prim_id, hit.u, hit.v)).a;
+  if (material.alpha_from_texture) alpha *= texture_sample(*material.texture, uv(hit.prim_id, hit.u, hit.v)).a;
   return !(alpha < material.alpha_threshold);
 }
 
@@ -131,7 +91,7 @@ glm::vec2 CpuScene::uv(uint32_t triangle, float u, float v) const {
 glm::vec3 CpuScene::albedo(uint32_t triangle, float u, float v) const {
   const Material& material = materials_[material_of_[triangle]];
   if (!material.texture) return material.base_color;
-  return material.base_color * glm::vec3(sample(*material.texture, uv(triangle, u, v)));
+  return material.base_color * glm::vec3(texture_sample(*material.texture, uv(triangle, u, v)));
 }
 
 Surface CpuScene::surface(const embree::Hit& hit, glm::vec3 dir) const {

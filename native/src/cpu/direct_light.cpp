@@ -1,6 +1,7 @@
 #include "cpu/direct_light.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -10,6 +11,7 @@
 
 #include "cpu/lambert.h"
 #include "sampling.h"
+#include "scene_data.h"
 
 namespace bounce::cpu {
 namespace {
@@ -117,15 +119,21 @@ glm::vec3 sun_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sha
 // horizon (the shaders' own code: lambert.h), times the visible fraction of the emitter's points above that
 // horizon (stratified, seen from the light shrunk by the softness), as the shadow maps see it: exact wherever the
 // whole light is seen or hidden, so only penumbrae are estimated (they converge to the light-averaged
-// visibility, exact for small lights). Only the side facing -axis_z emits.
+// visibility, exact for small lights). Only the side facing -axis_z emits, but both sides of a triangle.
 glm::vec3 area_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, ShadingContext& context) {
-  const glm::vec3 c = glm::make_vec3(light.position), z = glm::make_vec3(light.axis_z);
-  if (glm::dot(y - c, -z) <= 0.0f) return glm::vec3(0.0f);
+  const bool triangle = light.type == BOUNCE_LIGHT_AREA_TRIANGLE;
+  const auto corners = triangle ? triangle_light_corners(light) : std::array<glm::vec3, 3>{};
+  const glm::vec3 c = triangle ? (corners[0] + corners[1] + corners[2]) / 3.0f : glm::make_vec3(light.position);
+  if (!triangle && glm::dot(y - c, -glm::make_vec3(light.axis_z)) <= 0.0f) return glm::vec3(0.0f);
   const glm::vec3 u = glm::make_vec3(light.axis_x) * light.half_size[0],
                   v = glm::make_vec3(light.axis_y) * light.half_size[1];
   const bool rect = light.type == BOUNCE_LIGHT_AREA_RECT;
   glm::vec3 polygon[lambert::MAX_POLYGON], clipped[lambert::MAX_POLYGON];
-  const int count = lambert::emitter_polygon(c - y, u, v, rect, polygon);
+  int count = 3;
+  if (triangle)
+    for (int i = 0; i < 3; ++i) polygon[i] = corners[i] - y;
+  else
+    count = lambert::emitter_polygon(c - y, u, v, rect, polygon);
   const int clipped_count = lambert::clip_to_horizon(polygon, count, n, clipped);
   if (clipped_count < 3) return glm::vec3(0.0f);
   const glm::vec3 unshadowed =
@@ -137,8 +145,13 @@ glm::vec3 area_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sh
     for (int j = 0; j < k; ++j) {
       const float s = (float(i) + context.rng.next()) / float(k);
       const float t = (float(j) + context.rng.next()) / float(k);
-      const glm::vec2 q = rect ? glm::vec2(2.0f * s - 1.0f, 2.0f * t - 1.0f) : concentric_disk({s, t});
-      const glm::vec3 p = c + context.softness * (q.x * u + q.y * v);
+      glm::vec3 p;
+      if (triangle) {
+        p = c + context.softness * (uniform_triangle_point(corners[0], corners[1], corners[2], {s, t}) - c);
+      } else {
+        const glm::vec2 q = rect ? glm::vec2(2.0f * s - 1.0f, 2.0f * t - 1.0f) : concentric_disk({s, t});
+        p = c + context.softness * (q.x * u + q.y * v);
+      }
       if (glm::dot(n, p - y) <= 0.0f) continue;
       ++above;
       if (context.visible(y, n, p)) ++seen;

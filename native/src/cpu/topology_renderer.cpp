@@ -278,7 +278,7 @@ uint32_t TopologyRenderer::vpl_cluster(const Vpl& vpl) const {
   return topologies_.latest()->cluster_at(vpl.position, vpl.normal, topology::Topology::Side::Front, reachable);
 }
 
-void TopologyRenderer::prepare_vpls(const GpuScene& scene, const BounceSettings& settings, uint64_t seed,
+void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const BounceSettings& settings, uint64_t seed,
                                     std::span<const Probe> probes, const ClusterGraph& graph) {
   // Candidates: kCandidatesPerVpl times the VPLs wanted, traced from the lights (a sun's over a disk the size of
   // the scene, so most land where the camera sees nothing: on a roof, outside a window).
@@ -287,7 +287,7 @@ void TopologyRenderer::prepare_vpls(const GpuScene& scene, const BounceSettings&
   const int wanted = std::max(settings.topology_vpls, 1);
   options.paths = (kCandidatesPerVpl * wanted + options.bounces - 1) / options.bounces;
   options.seed = seed;
-  const std::vector<Vpl> candidates = trace_vpls(scene_, scene.lights(), options);
+  const std::vector<Vpl> candidates = trace_vpls(scene_, lights, options);
   std::vector<uint32_t> candidate_cluster(candidates.size());
   parallel_for(candidates.size(), 0, 64, [&](std::size_t i) { candidate_cluster[i] = vpl_cluster(candidates[i]); });
   // Importance: the light a candidate gives the probes under the mode's own visibility, so the VPLs go where their
@@ -335,8 +335,8 @@ void TopologyRenderer::prepare_vpls(const GpuScene& scene, const BounceSettings&
   }
 }
 
-bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& settings, const BounceCamera& camera,
-                              const RenderCallbacks& callbacks, StageTimer& timer) {
+bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, const BounceSettings& settings,
+                              const BounceCamera& camera, const RenderCallbacks& callbacks, StageTimer& timer) {
   int x0 = camera.crop[0], y0 = camera.crop[1], x1 = camera.crop[2], y1 = camera.crop[3];
   if (x0 == 0 && y0 == 0 && x1 == 0 && y1 == 0) {
     x1 = camera.width;
@@ -361,17 +361,19 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
   const float offset = 2e-4f * std::max(radius, 1e-30f);
   const float clamp = settings.topology_distance_clamp * radius;
   const ShadowRays direct_rays{scene_.bvh(), offset, 1, scene_.opaque(), settings.shadow_softness};
-  const std::vector<BounceLight>& lights = scene.lights();
   const BounceWorld& world = scene.world();
+  const WorldRadiance world_radiance(world, scene.texture_data(world.environment_texture));
+  const float background_alpha = world.transparent ? 0.0f : 1.0f;
 
   struct Sums {
     std::vector<glm::vec3> combined, direct, emission, albedo, normal, indirect, second;
-    std::vector<float> depth;
+    std::vector<float> depth, alpha;
   } sums;
   for (auto* v :
        {&sums.combined, &sums.direct, &sums.emission, &sums.albedo, &sums.normal, &sums.indirect, &sums.second})
     v->assign(pixels, glm::vec3(0.0f));
   sums.depth.assign(pixels, kBackgroundDepth);
+  sums.alpha.assign(pixels, 0.0f);
   std::vector<glm::vec4> topology_image(pixels, glm::vec4(0.0f));
   std::vector<ViewSample> view(pixels);
   std::vector<glm::vec3> direct(pixels), indirect(pixels), second(pixels);
@@ -384,10 +386,7 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
       std::copy(value, value + channels, frame->aovs[aov].data() + std::size_t(bounce_aov_channels(aov)) * i);
     };
     for (std::size_t i = 0; i < pixels; ++i) {
-      const bool covered = sums.depth[i] < kBackgroundDepth;
-      const glm::vec4 combined = covered ? glm::vec4(sums.combined[i] * scale, 1.0f)
-                                         : glm::vec4(world.background[0], world.background[1], world.background[2],
-                                                     world.transparent ? 0.0f : 1.0f);
+      const glm::vec4 combined(sums.combined[i] * scale, sums.alpha[i] * scale);
       put(BOUNCE_AOV_COMBINED, i, glm::value_ptr(combined), 4);
       for (auto [aov, sum] : {std::pair{BOUNCE_AOV_DIRECT, &sums.direct},
                               {BOUNCE_AOV_EMISSION, &sums.emission},
@@ -416,6 +415,7 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
   callbacks.status("", 0.5f);
   for (int s = 0; s < settings.samples; ++s) {
     if (callbacks.cancelled()) return false;
+    const std::vector<BounceLight>& lights = scene_lights.sample(scene, settings, static_cast<uint32_t>(s), seed);
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
     {
@@ -460,7 +460,7 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
           const ViewSample& v = view[std::size_t(row) * std::size_t(width) + std::size_t(column)];
           if (v.hit) probes.push_back({v.surface.position, v.surface.shading_normal, v.surface.albedo, v.cluster});
         }
-      prepare_vpls(scene, settings, mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
+      prepare_vpls(lights, settings, mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
     }
     {
       StageScope scope(timer, Stage::TopologyDirect);
@@ -579,7 +579,12 @@ bool TopologyRenderer::render(const GpuScene& scene, const BounceSettings& setti
     }
     for (std::size_t i = 0; i < pixels; ++i) {
       const ViewSample& v = view[i];
-      if (!v.hit) continue;
+      if (!v.hit) {  // the world, as the GPU methods' compose pass adds it
+        sums.combined[i] += world_radiance(v.direction);
+        sums.alpha[i] += background_alpha;
+        continue;
+      }
+      sums.alpha[i] += 1.0f;
       sums.direct[i] += direct[i];
       sums.indirect[i] += indirect[i];
       sums.second[i] += second[i];

@@ -17,6 +17,7 @@
 #include "cpu/vpls.h"
 #include "gpu_scene.h"
 #include "render_callbacks.h"
+#include "scene_lights.h"
 #include "stage_timer.h"
 #include "topology/topology.h"
 
@@ -29,7 +30,8 @@ class TopologyRenderer {
   explicit TopologyRenderer(CpuScene& scene) : scene_(scene) {}
   // Renders settings.samples progressive samples of the whole crop (no tiles: nothing is on the GPU). Returns
   // false when cancelled, the precomputation included.
-  bool render(const GpuScene& scene, const BounceSettings& settings, const BounceCamera& camera,
+  // Each sample is lit by `lights`' list for it.
+  bool render(const GpuScene& scene, SceneLights& lights, const BounceSettings& settings, const BounceCamera& camera,
               const RenderCallbacks& callbacks, StageTimer& timer);
   std::shared_ptr<const topology::Topology> topology() const { return topologies_.latest(); }
 
@@ -39,8 +41,8 @@ class TopologyRenderer {
     glm::vec3 position, normal, albedo;
     uint32_t cluster;
   };
-  void prepare_vpls(const GpuScene& scene, const BounceSettings& settings, uint64_t seed, std::span<const Probe> probes,
-                    const ClusterGraph& graph);
+  void prepare_vpls(std::span<const BounceLight> lights, const BounceSettings& settings, uint64_t seed,
+                    std::span<const Probe> probes, const ClusterGraph& graph);
   uint32_t vpl_cluster(const Vpl& vpl) const;
 
   CpuScene& scene_;  // the renderer's, shared with the ray-traced direct light

@@ -11,6 +11,7 @@
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
 #include "sampling.h"
+#include "scene_data.h"
 
 namespace bounce::cpu {
 namespace {
@@ -39,10 +40,6 @@ glm::vec3 sphere_direction(float u1, float u2) {
 
 float spot_solid_angle(const BounceLight& light) { return 2.0f * kPi * (1.0f - std::cos(light.spot_half_angle)); }
 
-float emitter_area(const BounceLight& light) {
-  return (light.type == BOUNCE_LIGHT_AREA_RECT ? 4.0f : kPi) * light.half_size[0] * light.half_size[1];
-}
-
 struct Emission {
   glm::vec3 origin, direction, power;  // power: the light's, weighted for this direction's density
 };
@@ -65,6 +62,13 @@ Emission emit(const BounceLight& light, glm::vec3 centre, float scene_radius, fl
       const float r = scene_radius * std::sqrt(u1), phi = 2.0f * kPi * u2;
       const glm::vec3 origin = centre + z * (2.0f * scene_radius) + r * (std::cos(phi) * x + std::sin(phi) * y);
       return {origin, -z, power};
+    }
+    case BOUNCE_LIGHT_AREA_TRIANGLE: {  // uniform over the triangle and its two sides, cosine-weighted
+      const auto corners = triangle_light_corners(light);
+      const bool back = u1 >= 0.5f;
+      const float side_u1 = back ? 2.0f * u1 - 1.0f : 2.0f * u1;
+      return {uniform_triangle_point(corners[0], corners[1], corners[2], {u3, u4}),
+              cosine_direction(back ? -z : z, side_u1, u2), power};
     }
     default: {  // uniform over the emitter, cosine-weighted around -axis_z
       const glm::vec2 q = light.type == BOUNCE_LIGHT_AREA_ELLIPSE ? concentric_disk({u3, u4})
@@ -90,7 +94,7 @@ glm::vec3 light_power(const BounceLight& light, float scene_radius) {
     case BOUNCE_LIGHT_SUN:
       return intensity * kPi * scene_radius * scene_radius;
     default:
-      return intensity * kPi * emitter_area(light);
+      return intensity * kPi * emitting_area(light);
   }
 }
 

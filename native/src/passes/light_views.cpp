@@ -65,7 +65,7 @@ LightViews light_views(const BounceLight& light, glm::vec3 origin, glm::vec3 lo,
     v.view[f] = glm::lookAt(origin, origin + frame * directions[f], frame * ups[f]);
     v.view_projection[f] = projection * v.view[f];
   }
-  v.skipped_face = light.type == BOUNCE_LIGHT_POINT ? -1 : 4;
+  v.skipped_face = light.type == BOUNCE_LIGHT_POINT || light.type == BOUNCE_LIGHT_AREA_TRIANGLE ? -1 : 4;
   v.texel_factor = 2.0f / static_cast<float>(size);
   return v;
 }

@@ -2,7 +2,7 @@
 // Sun: orthographic, fitted to the scene's bounding sphere. Spot up to 75 degrees: one perspective face over
 // its cone. Point, area and wider spots: the six faces of a cube around the light, in the GL cube-map order and
 // orientation (+X, -X, +Y, -Y, +Z, -Z) of the light's own frame; a light that emits along -z only (area, spot)
-// never lights its +z face, which is then skipped.
+// never lights its +z face, which is then skipped (a triangle light emits from both sides).
 #pragma once
 
 #include <array>

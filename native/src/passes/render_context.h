@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -13,6 +14,7 @@ namespace bounce {
 
 struct RenderContext {
   const GpuScene& scene;
+  const std::vector<BounceLight>& lights;  // this sample's (SceneLights): lamps, world directions, emitters
   const BounceSettings& settings;
   StageTimer& timer;
   int width, height;          // of the tile being rendered

@@ -45,6 +45,13 @@ void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffe
   const BounceWorld& world = context.scene.world();
   glUniform3fv(0, 1, world.background);
   glUniform1f(1, world.transparent ? 0.0f : 1.0f);
+  const GLuint environment = context.scene.texture_id(world.environment_texture);
+  glBindTextureUnit(13, environment);
+  glUniform1i(4, environment != 0 ? 1 : 0);
+  glUniformMatrix3fv(5, 1, GL_FALSE, world.world_to_environment);
+  const glm::mat4 clip_to_world = glm::inverse(context.view_projection);
+  glUniformMatrix4fv(6, 1, GL_FALSE, &clip_to_world[0][0]);
+  glUniform2f(7, float(context.width), float(context.height));
   glUniform1i(2, indirect.light != 0);
   glUniform1i(3, indirect.times_albedo ? 1 : 0);
   glEnable(GL_BLEND);

@@ -21,6 +21,7 @@ LightBlock make_light_block(const BounceLight& light) {
   block.spot_sun[0] = light.spot_blend;
   block.spot_sun[1] = light.spot_cos_falloff ? 1.0f : 0.0f;
   block.spot_sun[2] = light.sun_angle;
+  std::memcpy(block.triangle, light.triangle, sizeof light.triangle);
   block.shadow_view_projection = glm::mat4(1.0f);
   return block;
 }
@@ -55,7 +56,7 @@ void DirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, S
 
 void DirectPass::for_each_shadowed_light(const RenderContext& context, ShadowPass& shadows,
                                          const std::function<void()>& use) {
-  const auto& lights = context.scene.lights();
+  const auto& lights = context.lights;
   shadows.trim(lights.size());
   for (std::size_t i = 0; i < lights.size(); ++i) {
     LightBlock block = make_light_block(lights[i]);

@@ -32,7 +32,7 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
   read_texture(gbuffer.normal.id(), normal_, width, height);
   read_texture(gbuffer.albedo.id(), albedo_, width, height);
   light_.assign(position_.size(), glm::vec4(0.0f));
-  const auto& lights = context.scene.lights();
+  const auto& lights = context.lights;
   // Shadow rays leave from the surface pushed along the shading normal (on the geometric normal's side, so off
   // the surface); the light itself is evaluated at the surface point, as the rasterizer does.
   const cpu::ShadowRays rays{scene.bvh(), 2e-4f * std::max(scene.radius(), 1e-30f), 1, scene.opaque(),

@@ -9,6 +9,7 @@
 #include "gl/shader.h"
 #include "passes/light_views.h"
 #include "sampling.h"
+#include "scene_data.h"
 
 namespace bounce {
 
@@ -46,6 +47,12 @@ float sample_share_diameter(const BounceLight& light, const BounceSettings& sett
     case BOUNCE_LIGHT_AREA_ELLIPSE:
       diameter = 2.0f * std::max(light.half_size[0], light.half_size[1]);
       break;
+    case BOUNCE_LIGHT_AREA_TRIANGLE: {
+      const auto corners = triangle_light_corners(light);
+      diameter = std::max({glm::length(corners[1] - corners[0]), glm::length(corners[2] - corners[0]),
+                           glm::length(corners[2] - corners[1])});
+      break;
+    }
     default:
       diameter = 2.0f * light.radius;
   }
@@ -76,6 +83,12 @@ glm::vec3 light_shadow_origin(const BounceLight& light, uint32_t sample, uint32_
     case BOUNCE_LIGHT_AREA_ELLIPSE: {
       const glm::vec2 d = concentric_disk(u);
       return centre + softness * (d.x * light.half_size[0] * ax + d.y * light.half_size[1] * ay);
+    }
+    case BOUNCE_LIGHT_AREA_TRIANGLE: {  // around the centroid, shrunk by the softness
+      const auto corners = triangle_light_corners(light);
+      const glm::vec3 centroid = (corners[0] + corners[1] + corners[2]) / 3.0f;
+      if (sample == 0) return centroid;
+      return centroid + softness * (uniform_triangle_point(corners[0], corners[1], corners[2], u) - centroid);
     }
     default: {  // point, spot: uniform in the ball of the light's radius
       if (sample == 0 || light.radius <= 0.0f) return centre;
@@ -131,7 +144,7 @@ void ShadowPass::prepare(const RenderContext& context, std::size_t index, const 
   ShadowMap& map = maps_[index];
   const int faces = kind == kShadowCube ? 6 : 1;
   int size = context.settings.shadow_map_size;
-  const double lights = static_cast<double>(std::max<std::size_t>(context.scene.lights().size(), 1));
+  const double lights = static_cast<double>(std::max<std::size_t>(context.lights.size(), 1));
   while (size > 64 && lights * faces * 4.0 * size * size > kShadowMemoryBudget) size /= 2;
 
   const bool reuse = map.depth && map.kind == kind && map.size == size && map.origin == origin &&

@@ -33,6 +33,7 @@ struct LightBlock {
   float intensity[4];
   float shape[4];
   float spot_sun[4];
+  float triangle[4];
   float shadow_origin[4];
   glm::mat4 shadow_view_projection;
   float shadow_params[4];

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "scene_data.h"
+
 namespace bounce::ssvp {
 
 namespace {
@@ -89,9 +91,7 @@ float estimated_flux_into_sphere(const BounceLight& light, glm::vec3 centre, flo
       return power * std::min(cone, sphere_solid_angle);
     }
     default: {  // area: radiance x area x pi over its hemisphere
-      const float area = light.type == BOUNCE_LIGHT_AREA_RECT ? 4.0f * light.half_size[0] * light.half_size[1]
-                                                              : kPi * light.half_size[0] * light.half_size[1];
-      return power * area * kPi * std::min(1.0f, sphere_solid_angle / (2.0f * kPi));
+      return power * emitting_area(light) * kPi * std::min(1.0f, sphere_solid_angle / (2.0f * kPi));
     }
   }
 }

@@ -159,7 +159,7 @@ void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers
   const glm::vec3 lo = context.scene.bounds_min(), hi = context.scene.bounds_max();
   const float scene_radius = 0.5f * glm::length(hi - lo);
   if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
-  const auto& lights = context.scene.lights();
+  const auto& lights = context.lights;
   main_light_ = ssvp::choose_main_light(lights, 0.5f * (lo + hi), scene_radius);
   if (main_light_ < 0) return;
   const BounceLight& light = lights[static_cast<std::size_t>(main_light_)];

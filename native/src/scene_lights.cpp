@@ -1,0 +1,207 @@
+#include "scene_lights.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "passes/light_views.h"
+#include "sampling.h"
+
+namespace bounce {
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+// The world's importance table is the environment averaged down to at most this many texels a side (power is
+// kept; a sun of one pixel keeps its share, spread over one table texel: 0.7 degrees).
+constexpr int kWorldTableWidth = 512, kWorldTableHeight = 256;
+
+// The weight by which lights are drawn: radiance summed over channels (a pure red light still counts).
+float weight(glm::vec3 radiance) { return std::max(0.0f, radiance.r + radiance.g + radiance.b); }
+
+// The index i with cdf[i] <= target < cdf[i + 1], among those of positive weight.
+std::size_t find_in_cdf(const std::vector<double>& cdf, double target) {
+  const auto it = std::upper_bound(cdf.begin() + 1, cdf.end(), target);
+  std::size_t i = std::size_t(it - cdf.begin()) - 1;
+  i = std::min(i, cdf.size() - 2);
+  while (i > 0 && cdf[i + 1] == cdf[i]) --i;  // a target on a zero-weight entry's edge takes the one before
+  return i;
+}
+
+}  // namespace
+
+glm::vec2 equirect_uv(glm::vec3 e) {
+  return {std::atan2(e.y, -e.x) / (2.0f * kPi) + 0.5f, std::atan2(e.z, std::hypot(e.x, e.y)) / kPi + 0.5f};
+}
+
+glm::vec3 equirect_direction(glm::vec2 uv) {
+  const float phi = (uv.x - 0.5f) * 2.0f * kPi, elevation = (uv.y - 0.5f) * kPi;
+  return {-std::cos(phi) * std::cos(elevation), std::sin(phi) * std::cos(elevation), std::sin(elevation)};
+}
+
+WorldRadiance::WorldRadiance(const BounceWorld& world, const TextureData* environment)
+    : background_(glm::make_vec3(world.background)),
+      environment_(environment && environment->width > 0 && environment->height > 0 ? environment : nullptr),
+      world_to_environment_(glm::make_mat3(world.world_to_environment)),
+      environment_to_world_(glm::inverse(world_to_environment_)) {}
+
+glm::vec3 WorldRadiance::to_world(glm::vec3 environment_direction) const {
+  return glm::normalize(environment_to_world_ * environment_direction);
+}
+
+glm::vec3 WorldRadiance::operator()(glm::vec3 direction) const {
+  if (!environment_) return background_;
+  const glm::vec3 e = world_to_environment_ * direction;
+  return background_ * glm::vec3(texture_sample(*environment_, equirect_uv(e)));
+}
+
+void SceneLights::update(const GpuScene& scene) {
+  if (scene.geometry_version() != geometry_version_) {
+    geometry_version_ = scene.geometry_version();
+    emitters_.clear();
+    emitter_cdf_.assign(1, 0.0);
+    for (const GpuScene::DrawnPart& part : scene.drawn_parts()) {
+      const glm::vec3 radiance = glm::max(glm::make_vec3(part.material.emission), glm::vec3(0.0f));
+      if (!(weight(radiance) > 0.0f)) continue;
+      const glm::mat4& m = part.instance.object_to_world;
+      for (uint32_t v = part.submesh.first_vertex; v + 2 < part.submesh.first_vertex + part.submesh.vertex_count;
+           v += 3) {
+        glm::vec3 corner[3];
+        for (int k = 0; k < 3; ++k)
+          corner[k] = glm::vec3(m * glm::vec4(glm::make_vec3(part.mesh.vertices[v + k].position), 1.0f));
+        const float area = 0.5f * glm::length(glm::cross(corner[1] - corner[0], corner[2] - corner[0]));
+        if (!(area > 0.0f) || !std::isfinite(area)) continue;  // the transform collapsed it
+        emitters_.push_back({corner[0], corner[1], corner[2], radiance});
+        emitter_cdf_.push_back(emitter_cdf_.back() + double(weight(radiance)) * double(area));
+      }
+    }
+  }
+  if (scene.world_version() != world_version_ || world_cdf_.empty()) {
+    world_version_ = scene.world_version();
+    const WorldRadiance world(scene.world(), scene.texture_data(scene.world().environment_texture));
+    const TextureData* env = world.environment();
+    world_texels_.clear();
+    world_cdf_.assign(1, 0.0);
+    world_width_ = std::size_t(env ? std::min(env->width, kWorldTableWidth) : 1);
+    const int width = int(world_width_);
+    const int height = env ? std::min(env->height, kWorldTableHeight) : 1;
+    for (int row = 0; row < height; ++row) {
+      const float v0 = float(row) / float(height), v1 = float(row + 1) / float(height);
+      const float z0 = std::sin((v0 - 0.5f) * kPi), z1 = std::sin((v1 - 0.5f) * kPi);
+      for (int column = 0; column < width; ++column) {
+        glm::vec3 radiance = world.background();
+        if (env) {  // the mean of the environment's pixels in this table texel
+          const int x0 = column * env->width / width, x1 = (column + 1) * env->width / width;
+          const int y0 = row * env->height / height, y1 = (row + 1) * env->height / height;
+          glm::dvec3 sum(0.0);
+          for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) sum += glm::dvec3(glm::vec3(texture_texel(*env, x, y)));
+          radiance *= glm::vec3(sum / double(std::max((x1 - x0) * (y1 - y0), 1)));
+        }
+        radiance = glm::max(radiance, glm::vec3(0.0f));
+        if (!std::isfinite(weight(radiance))) radiance = glm::vec3(0.0f);
+        const float u0 = float(column) / float(width), u1 = float(column + 1) / float(width);
+        const double solid_angle = double(u1 - u0) * 2.0 * kPi * double(z1 - z0);
+        world_texels_.push_back({radiance, u0, u1, z0, z1});
+        world_cdf_.push_back(world_cdf_.back() + double(weight(radiance)) * solid_angle);
+      }
+    }
+    world_row_cdf_.clear();
+    for (std::size_t r = 0; r * world_width_ < world_cdf_.size(); ++r)
+      world_row_cdf_.push_back(world_cdf_[r * world_width_]);
+    // The table's directions are the environment's; the lights need the world's.
+    environment_to_world_ = glm::mat3(world.to_world({1, 0, 0}), world.to_world({0, 1, 0}), world.to_world({0, 0, 1}));
+  }
+}
+
+void SceneLights::add_world(const BounceSettings& settings, uint32_t sample, uint32_t seed) {
+  const int count = settings.world_lights;
+  const double total = world_cdf_.back();
+  if (count <= 0 || !(total > 0.0) || !std::isfinite(total)) return;
+  const glm::vec2 rotation(hash_to_unit(hash_combine(seed, 201)), hash_to_unit(hash_combine(seed, 202)));
+  for (int k = 0; k < count; ++k) {
+    // The (sample * count + k)-th point of one R2 sequence: the render's directions stay stratified as a whole.
+    // A row (elevation) by u.y from the rows' marginal, then a texel of it by u.x: both coordinates stratify.
+    const glm::vec2 u = r2_point(sample * uint32_t(count) + uint32_t(k), rotation);
+    const std::size_t width = world_width_;
+    const std::vector<double>& row_cdf = world_row_cdf_;
+    const double row_target = double(u.y) * total;
+    const std::size_t row = find_in_cdf(row_cdf, row_target);
+    const double row_weight = row_cdf[row + 1] - row_cdf[row];
+    const double target = row_cdf[row] + double(u.x) * row_weight;
+    const std::size_t t = std::clamp(find_in_cdf(world_cdf_, target), row * width, row * width + width - 1);
+    const WorldTexel& texel = world_texels_[t];
+    const double span = world_cdf_[t + 1] - world_cdf_[t];
+    // The fractions of the targets within the row's and the texel's shares place the direction in the texel.
+    const auto fraction = [](double x, double lo, double size) {
+      return size > 0.0 ? float(std::clamp((x - lo) / size, 0.0, 1.0)) : 0.5f;
+    };
+    const float z = texel.z0 + fraction(row_target, row_cdf[row], row_weight) * (texel.z1 - texel.z0);
+    const float phi_u = texel.u0 + fraction(target, world_cdf_[t], span) * (texel.u1 - texel.u0);
+    const float elevation_v = std::asin(std::clamp(z, -1.0f, 1.0f)) / kPi + 0.5f;
+    const glm::vec3 direction = glm::normalize(environment_to_world_ * equirect_direction({phi_u, elevation_v}));
+    // Irradiance L / (K p), p = weight(L) / total per steradian.
+    const glm::vec3 irradiance = texel.radiance * float(total / (double(count) * double(weight(texel.radiance))));
+    BounceLight light{};
+    light.type = BOUNCE_LIGHT_SUN;
+    light.cast_shadow = 1;
+    const glm::vec3 x = any_perpendicular(direction), y = glm::cross(direction, x);
+    for (int i = 0; i < 3; ++i) {
+      light.axis_x[i] = x[i];
+      light.axis_y[i] = y[i];
+      light.axis_z[i] = direction[i];
+      light.intensity[i] = irradiance[i];
+    }
+    lights_.push_back(light);
+  }
+}
+
+void SceneLights::add_emitters(const BounceSettings& settings, uint32_t sample, uint32_t seed) {
+  const std::size_t count = std::size_t(std::max(settings.emission_lights, 0));
+  const double total = emitter_cdf_.back();
+  if (count == 0 || emitters_.empty() || !(total > 0.0) || !std::isfinite(total)) return;
+  if (emitters_.size() <= count) {
+    for (const Emitter& e : emitters_) lights_.push_back(make_triangle_light(e.a, e.b, e.c, e.radiance));
+    return;
+  }
+  // Systematic sampling by power: K evenly spaced targets, one random offset per sample. A triangle drawn n times
+  // is one light n times as bright.
+  const double offset = double(hash_to_unit(hash_combine(hash_combine(seed, 301), sample)));
+  std::size_t previous = SIZE_MAX;
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t t = find_in_cdf(emitter_cdf_, (double(k) + offset) / double(count) * total);
+    const Emitter& e = emitters_[t];
+    const double p = (emitter_cdf_[t + 1] - emitter_cdf_[t]) / total;
+    const glm::vec3 radiance = e.radiance * float(1.0 / (double(count) * p));
+    if (t == previous) {
+      for (int i = 0; i < 3; ++i) lights_.back().intensity[i] += radiance[i];
+      continue;
+    }
+    lights_.push_back(make_triangle_light(e.a, e.b, e.c, radiance));
+    previous = t;
+  }
+}
+
+const std::vector<BounceLight>& SceneLights::sample(const GpuScene& scene, const BounceSettings& settings,
+                                                    uint32_t sample, uint32_t seed) {
+  update(scene);
+  lights_ = scene.lamps();
+  lamp_count_ = lights_.size();
+  add_world(settings, sample, seed);
+  add_emitters(settings, sample, seed);
+  // The range policy of the caller's lights (scene_data.h) holds for these too: a 1e30 emitter drawn with a small
+  // probability would overflow float32.
+  for (std::size_t i = lamp_count_; i < lights_.size(); ++i) {
+    float* intensity = lights_[i].intensity;
+    const float peak = std::max({intensity[0], intensity[1], intensity[2]});
+    if (peak <= kMaxIntensity) continue;
+    for (int c = 0; c < 3; ++c)  // the hue where the channels are finite; an overflowed one at the limit
+      intensity[c] = std::isfinite(peak)   ? intensity[c] * (kMaxIntensity / peak)
+                     : intensity[c] > 0.0f ? kMaxIntensity
+                                           : 0.0f;
+  }
+  return lights_;
+}
+
+}  // namespace bounce

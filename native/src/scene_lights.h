@@ -1,0 +1,79 @@
+// The lights of one sample. Every pass lights the scene with a list of lights; besides the caller's lamps, that
+// list holds, per sample, the other things a Blender scene lights with, turned into lights the passes already
+// shade, shadow and bounce:
+//  - the world (uniform colour or equirectangular environment): `world_lights` directions, drawn in proportion to
+//    radiance x solid angle from a table of the environment, so each carries the same power, and spread over the
+//    samples by one low-discrepancy sequence (the i-th direction of the render is its i-th R2 point). Each is a sun
+//    of irradiance L(w) / (K p(w)): their average over the samples converges to the sky's visibility integral
+//    (the sum over directions of L V cos / p).
+//  - emissive surfaces: each triangle with emission is a two-sided triangle light of its radiance, shaded by
+//    Lambert's formula (exact unshadowed irradiance); when there are more than `emission_lights`, that many are
+//    drawn each sample in proportion to their power (systematic sampling), each of radiance L / (K p).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "bounce/bounce.h"
+#include "gpu_scene.h"
+
+namespace bounce {
+
+// Blender's equirectangular mapping of a unit direction e (z up) to uv in [0,1]^2, and its inverse.
+glm::vec2 equirect_uv(glm::vec3 e);
+glm::vec3 equirect_direction(glm::vec2 uv);
+
+// The world's radiance toward a direction (BounceWorld's definition).
+class WorldRadiance {
+ public:
+  WorldRadiance(const BounceWorld& world, const TextureData* environment);
+  glm::vec3 operator()(glm::vec3 direction) const;
+  const TextureData* environment() const { return environment_; }
+  glm::vec3 background() const { return background_; }
+  // World direction of an environment direction.
+  glm::vec3 to_world(glm::vec3 environment_direction) const;
+
+ private:
+  glm::vec3 background_;
+  const TextureData* environment_;
+  glm::mat3 world_to_environment_, environment_to_world_;
+};
+
+class SceneLights {
+ public:
+  // The lights of sample `sample` of a render with `seed`: the caller's lamps first (same indices), then the
+  // world's directions, then the emissive triangles. Tables are rebuilt only when the scene changed.
+  const std::vector<BounceLight>& sample(const GpuScene& scene, const BounceSettings& settings, uint32_t sample,
+                                         uint32_t seed);
+  // How many lights of the list are the caller's lamps.
+  std::size_t lamp_count() const { return lamp_count_; }
+  // Emissive triangles and the world's total power proxy, for statistics and tests.
+  std::size_t emitter_count() const { return emitters_.size(); }
+
+ private:
+  struct Emitter {
+    glm::vec3 a, b, c, radiance;
+  };
+  struct WorldTexel {
+    glm::vec3 radiance;
+    float u0, u1, z0, z1;  // the texel's span in u, and in sin(elevation)
+  };
+  void update(const GpuScene& scene);
+  void add_world(const BounceSettings& settings, uint32_t sample, uint32_t seed);
+  void add_emitters(const BounceSettings& settings, uint32_t sample, uint32_t seed);
+
+  uint64_t geometry_version_ = 0, world_version_ = 0;
+  std::vector<Emitter> emitters_;
+  std::vector<double> emitter_cdf_;  // cumulative power, emitters_.size() + 1 entries
+  std::vector<WorldTexel> world_texels_;
+  std::vector<double> world_cdf_;  // cumulative radiance x solid angle, row after row (bottom first)
+  std::size_t world_width_ = 1;
+  std::vector<double> world_row_cdf_;  // the rows' marginal: world_cdf_ at each row's start, and the total
+  glm::mat3 environment_to_world_{1.0f};
+  std::vector<BounceLight> lights_;
+  std::size_t lamp_count_ = 0;
+};
+
+}  // namespace bounce

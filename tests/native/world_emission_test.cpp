@@ -1,0 +1,143 @@
+// The world and emissive surfaces as light sources (native/src/scene_lights.h), against closed forms: a plane under
+// a uniform sky (albedo x sky radiance), a plane at the bottom of a black well open to the sky (times the view
+// factor of the opening), and a square emitter above a plane (Lambert's formula); in every shadow method.
+#include <functional>
+
+#include "render_fixture.h"
+
+namespace bounce::test {
+namespace {
+
+constexpr float kAlbedo = 0.8f;
+
+// View factor from a point to a parallel rectangle [0, a] x [0, b] at height h above it, the point under the
+// rectangle's corner (Howell, A Catalog of Radiation Heat Transfer Configuration Factors): 1/(2 pi) [A/sqrt(1+A^2)
+// atan(B/sqrt(1+A^2)) + (A <-> B)].
+double corner_view_factor(double a, double b, double h) {
+  const double A = a / h, B = b / h;
+  const double sa = std::sqrt(1 + A * A), sb = std::sqrt(1 + B * B);
+  return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2 * kPi);
+}
+
+// The view factor from point (x, y) to the rectangle [x0, x1] x [y0, y1] at height h, by signed corner pieces.
+double rectangle_view_factor(double x, double y, double x0, double x1, double y0, double y1, double h) {
+  auto piece = [&](double dx, double dy) {  // signed rectangle from the foot point to corner (dx, dy)
+    const double sign = (dx < 0 ? -1.0 : 1.0) * (dy < 0 ? -1.0 : 1.0);
+    return sign * corner_view_factor(std::abs(dx), std::abs(dy), h);
+  };
+  return piece(x1 - x, y1 - y) - piece(x0 - x, y1 - y) - piece(x1 - x, y0 - y) + piece(x0 - x, y0 - y);
+}
+
+class WorldAndEmission : public RenderFixture {
+ protected:
+  void set_world(glm::vec3 radiance) {
+    BounceWorld world{};
+    for (int i = 0; i < 3; ++i) world.background[i] = radiance[i];
+    world.world_to_environment[0] = world.world_to_environment[4] = world.world_to_environment[8] = 1.0f;
+    ASSERT_BOUNCE_OK(bounce_world_set(engine_, &world));
+  }
+  // Materials: 0 grey kAlbedo, 1 black, 2 black emitting `emission`.
+  void set_materials(float emission) {
+    BounceMaterial materials[3]{};
+    for (BounceMaterial& m : materials) {
+      m.alpha = 1.0f;
+      m.alpha_threshold = 0.5f;
+    }
+    for (int i = 0; i < 3; ++i) materials[0].base_color[i] = kAlbedo;
+    for (int i = 0; i < 3; ++i) materials[2].emission[i] = emission;
+    ASSERT_BOUNCE_OK(bounce_materials_set(engine_, 3, materials));
+  }
+  // Instances of (mesh, material).
+  void set_instances_with(const std::vector<std::pair<uint64_t, uint32_t>>& parts) {
+    std::vector<uint64_t> keys;
+    std::vector<float> matrices;
+    std::vector<uint32_t> offsets, counts, slots;
+    for (auto [key, material] : parts) {
+      keys.push_back(key);
+      const glm::mat4 m(1.0f);
+      matrices.insert(matrices.end(), glm::value_ptr(m), glm::value_ptr(m) + 16);
+      offsets.push_back(static_cast<uint32_t>(slots.size()));
+      counts.push_back(1);
+      slots.push_back(material);
+    }
+    BounceInstancesDesc desc{
+        static_cast<uint32_t>(keys.size()),  keys.data(), matrices.data(), offsets.data(), counts.data(),
+        static_cast<uint32_t>(slots.size()), slots.data()};
+    ASSERT_BOUNCE_OK(bounce_instances_set(engine_, &desc));
+  }
+  // Mean red Direct over the pixels of look_down(half, size) whose centre satisfies `inside`, against the mean of
+  // `expected` there.
+  void expect_direct(float half, int size, const std::function<bool(glm::vec3)>& inside,
+                     const std::function<double(glm::vec3)>& expected, double tolerance, const char* what) {
+    for (int shadows : {BOUNCE_SHADOWS_MAPS, BOUNCE_SHADOWS_RAY_TRACED}) {
+      settings_.shadow_method = shadows;
+      const Image image = render(BOUNCE_AOV_DIRECT);
+      ASSERT_TRUE(all_finite(image));
+      double got = 0.0, want = 0.0;
+      int count = 0;
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+          const glm::vec3 p = pixel_world(x, y, half, size);
+          if (!inside(p)) continue;
+          got += image.at(x, y)[0];
+          want += expected(p);
+          ++count;
+        }
+      ASSERT_GT(count, 8);
+      EXPECT_NEAR(got / want, 1.0, tolerance)
+          << what << ", shadow method " << shadows << ": " << got / count << " instead of " << want / count;
+    }
+  }
+};
+
+TEST_F(WorldAndEmission, PlaneUnderAUniformSkyReflectsAlbedoTimesSky) {
+  add_plane(1, 40.0f);
+  set_materials(0.0f);
+  set_instances_with({{1, 0}});
+  set_world(glm::vec3(1.0f));
+  look_down(4.0f, 32);
+  settings_.samples = 64;
+  expect_direct(
+      4.0f, 32, [](glm::vec3) { return true; }, [](glm::vec3) { return kAlbedo; }, 0.01, "open sky");
+}
+
+TEST_F(WorldAndEmission, WellFloorSeesTheSkyThroughItsOpening) {
+  // A 1 m square floor at the bottom of a black well 0.5 m deep.
+  const float h = 0.5f;
+  add_plane(1, 1.0f);
+  std::vector<glm::vec3> walls;
+  for (int side = 0; side < 4; ++side) {
+    const float angle = side * kPi / 2;
+    const glm::vec3 n(std::cos(angle), std::sin(angle), 0.0f), t(-n.y, n.x, 0.0f);
+    const glm::vec3 a = 0.5f * n - 0.5f * t, b = 0.5f * n + 0.5f * t, up(0, 0, h);
+    walls.insert(walls.end(), {a, b, b + up, a, b + up, a + up});
+  }
+  add_soup(2, walls);
+  set_materials(0.0f);
+  set_instances_with({{1, 0}, {2, 1}});
+  set_world(glm::vec3(1.0f));
+  look_down(0.5f, 32);
+  settings_.samples = 256;
+  expect_direct(
+      0.5f, 32, [](glm::vec3 p) { return std::max(std::abs(p.x), std::abs(p.y)) < 0.4f; },
+      [&](glm::vec3 p) { return kAlbedo * rectangle_view_factor(p.x, p.y, -0.5, 0.5, -0.5, 0.5, h); }, 0.02, "well");
+}
+
+TEST_F(WorldAndEmission, SquareEmitterLightsThePlaneBelowByItsViewFactor) {
+  // The case: a 1 m square emitting 10 (both sides), 1 m above a plane of albedo 0.8; below its centre
+  // 0.8 x 10 x F = 1.9157 (Cycles: 1.9128). Pixels outside the emitter's shadow on the image are compared.
+  add_plane(1, 40.0f);
+  add_soup(
+      2, {{-0.5f, -0.5f, 1}, {0.5f, -0.5f, 1}, {0.5f, 0.5f, 1}, {-0.5f, -0.5f, 1}, {0.5f, 0.5f, 1}, {-0.5f, 0.5f, 1}});
+  set_materials(10.0f);
+  set_instances_with({{1, 0}, {2, 2}});
+  look_down(2.0f, 48);
+  EXPECT_NEAR(kAlbedo * 10 * rectangle_view_factor(0, 0, -0.5, 0.5, -0.5, 0.5, 1.0), 1.9157, 1e-3);
+  expect_direct(
+      2.0f, 48, [](glm::vec3 p) { return std::max(std::abs(p.x), std::abs(p.y)) > 0.6f; },
+      [](glm::vec3 p) { return kAlbedo * 10 * rectangle_view_factor(p.x, p.y, -0.5, 0.5, -0.5, 0.5, 1.0); }, 0.01,
+      "emitter");
+}
+
+}  // namespace
+}  // namespace bounce::test

@@ -77,8 +77,12 @@ vec3 light_irradiance(vec3 x, vec3 n, out float above_horizon) {
     if (type == LIGHT_SPOT) falloff *= spot_attenuation(-l);
     return light.intensity.rgb * falloff;
   }
-  // Area: only the side facing -axis_z emits; a triangle (an emissive mesh's) emits from both, as in Cycles.
+  // Area: only the side facing -axis_z emits; a triangle (an emissive mesh's) emits from both, as in Cycles, but
+  // not onto its own plane: Lambert's formula there is the limit from above (pi L), not the surface's own 0.
   if (type != LIGHT_AREA_TRIANGLE && dot(-to_light, -light.axis_z.xyz) <= 0.0) return vec3(0.0);
+  if (type == LIGHT_AREA_TRIANGLE &&
+      abs(dot(to_light, light.axis_z.xyz)) <= 1e-4 * (length(light.triangle.xy) + length(light.triangle.zw)))
+    return vec3(0.0);
   vec3 polygon[MAX_POLYGON];
   int count = area_light_polygon(polygon);
   for (int i = 0; i < count; ++i) polygon[i] -= x;

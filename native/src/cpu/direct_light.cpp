@@ -115,6 +115,14 @@ glm::vec3 sun_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sha
   return unshadowed * (float(seen) / float(above));
 }
 
+// Whether y lies in a triangle light's plane (lights.glsl's tolerance): an emissive surface does not light itself,
+// while Lambert's formula gives there the limit from above, pi L.
+bool on_own_plane(const BounceLight& light, glm::vec3 y) {
+  const float size =
+      std::hypot(light.triangle[0], light.triangle[1]) + std::hypot(light.triangle[2], light.triangle[3]);
+  return std::abs(glm::dot(y - glm::make_vec3(light.position), glm::make_vec3(light.axis_z))) <= 1e-4f * size;
+}
+
 // Area: lights.glsl's unshadowed irradiance, L times Lambert's polygon formula over the emitter clipped to y's
 // horizon (the shaders' own code: lambert.h), times the visible fraction of the emitter's points above that
 // horizon (stratified, seen from the light shrunk by the softness), as the shadow maps see it: exact wherever the
@@ -125,6 +133,7 @@ glm::vec3 area_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sh
   const auto corners = triangle ? triangle_light_corners(light) : std::array<glm::vec3, 3>{};
   const glm::vec3 c = triangle ? (corners[0] + corners[1] + corners[2]) / 3.0f : glm::make_vec3(light.position);
   if (!triangle && glm::dot(y - c, -glm::make_vec3(light.axis_z)) <= 0.0f) return glm::vec3(0.0f);
+  if (triangle && on_own_plane(light, y)) return glm::vec3(0.0f);
   const glm::vec3 u = glm::make_vec3(light.axis_x) * light.half_size[0],
                   v = glm::make_vec3(light.axis_y) * light.half_size[1];
   const bool rect = light.type == BOUNCE_LIGHT_AREA_RECT;

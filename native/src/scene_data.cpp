@@ -34,6 +34,13 @@ bool within_range(glm::vec3 p) {
   return std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate && std::abs(p.z) <= kMaxCoordinate;
 }
 
+void dim_to_max_intensity(float (&intensity)[3]) {
+  const float peak = std::max({intensity[0], intensity[1], intensity[2]});
+  const bool finite = std::isfinite(peak);
+  const float dimming = finite && peak > kMaxIntensity ? kMaxIntensity / peak : 1.0f;
+  for (float& c : intensity) c = !(c > 0.0f) ? 0.0f : finite ? c * dimming : kMaxIntensity;
+}
+
 namespace {
 
 bool finite3(const float* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
@@ -247,8 +254,7 @@ LightList prepare_lights(uint32_t count, const BounceLight* lights) {
                            std::any_of(std::begin(light.triangle), std::end(light.triangle),
                                        [](float c) { return std::abs(c) > kMaxCoordinate; });
     list.clamped += too_large ? 1 : 0;
-    const float dimming = std::min(1.0f, kMaxIntensity / peak);
-    for (float& c : light.intensity) c = std::max(c, 0.0f) * dimming;
+    dim_to_max_intensity(light.intensity);
     for (float& h : light.half_size) h = std::min(h, kMaxCoordinate);
     for (float& c : light.triangle) c = std::clamp(c, -kMaxCoordinate, kMaxCoordinate);
     orthonormalize_frame(light);

@@ -26,6 +26,10 @@ constexpr float kMaxIntensity = 1e15f;
 // Whether every coordinate of p is within kMaxCoordinate (false for NaN).
 bool within_range(glm::vec3 p);
 
+// Dims an intensity brighter than kMaxIntensity to it, keeping its hue; negative and NaN channels become 0, and
+// where a channel overflowed, every positive one takes the limit.
+void dim_to_max_intensity(float (&intensity)[3]);
+
 struct Vertex {
   float position[3];
   float normal[3];

@@ -43,12 +43,7 @@ glm::vec3 equirect_direction(glm::vec2 uv) {
 WorldRadiance::WorldRadiance(const BounceWorld& world, const TextureData* environment)
     : background_(glm::make_vec3(world.background)),
       environment_(environment && environment->width > 0 && environment->height > 0 ? environment : nullptr),
-      world_to_environment_(glm::make_mat3(world.world_to_environment)),
-      environment_to_world_(glm::inverse(world_to_environment_)) {}
-
-glm::vec3 WorldRadiance::to_world(glm::vec3 environment_direction) const {
-  return glm::normalize(environment_to_world_ * environment_direction);
-}
+      world_to_environment_(glm::make_mat3(world.world_to_environment)) {}
 
 glm::vec3 WorldRadiance::operator()(glm::vec3 direction) const {
   if (!environment_) return background_;
@@ -77,7 +72,7 @@ void SceneLights::update(const GpuScene& scene) {
       }
     }
   }
-  if (scene.world_version() != world_version_ || world_cdf_.empty()) {
+  if (scene.world_version() != world_version_) {
     world_version_ = scene.world_version();
     const WorldRadiance world(scene.world(), scene.texture_data(scene.world().environment_texture));
     const TextureData* env = world.environment();
@@ -110,8 +105,9 @@ void SceneLights::update(const GpuScene& scene) {
     world_row_cdf_.clear();
     for (std::size_t r = 0; r * world_width_ < world_cdf_.size(); ++r)
       world_row_cdf_.push_back(world_cdf_[r * world_width_]);
-    // The table's directions are the environment's; the lights need the world's.
-    environment_to_world_ = glm::mat3(world.to_world({1, 0, 0}), world.to_world({0, 1, 0}), world.to_world({0, 0, 1}));
+    // The table's directions are the environment's; the lights need the world's (normalized once drawn: a Mapping
+    // node may scale unevenly).
+    environment_to_world_ = glm::inverse(glm::make_mat3(scene.world().world_to_environment));
   }
 }
 
@@ -192,15 +188,7 @@ const std::vector<BounceLight>& SceneLights::sample(const GpuScene& scene, const
   add_emitters(settings, sample, seed);
   // The range policy of the caller's lights (scene_data.h) holds for these too: a 1e30 emitter drawn with a small
   // probability would overflow float32.
-  for (std::size_t i = lamp_count_; i < lights_.size(); ++i) {
-    float* intensity = lights_[i].intensity;
-    const float peak = std::max({intensity[0], intensity[1], intensity[2]});
-    if (peak <= kMaxIntensity) continue;
-    for (int c = 0; c < 3; ++c)  // the hue where the channels are finite; an overflowed one at the limit
-      intensity[c] = std::isfinite(peak)   ? intensity[c] * (kMaxIntensity / peak)
-                     : intensity[c] > 0.0f ? kMaxIntensity
-                                           : 0.0f;
-  }
+  for (std::size_t i = lamp_count_; i < lights_.size(); ++i) dim_to_max_intensity(lights_[i].intensity);
   return lights_;
 }
 

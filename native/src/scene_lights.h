@@ -32,13 +32,11 @@ class WorldRadiance {
   glm::vec3 operator()(glm::vec3 direction) const;
   const TextureData* environment() const { return environment_; }
   glm::vec3 background() const { return background_; }
-  // World direction of an environment direction.
-  glm::vec3 to_world(glm::vec3 environment_direction) const;
 
  private:
   glm::vec3 background_;
   const TextureData* environment_;
-  glm::mat3 world_to_environment_, environment_to_world_;
+  glm::mat3 world_to_environment_;
 };
 
 class SceneLights {
@@ -49,8 +47,6 @@ class SceneLights {
                                          uint32_t seed);
   // How many lights of the list are the caller's lamps.
   std::size_t lamp_count() const { return lamp_count_; }
-  // Emissive triangles and the world's total power proxy, for statistics and tests.
-  std::size_t emitter_count() const { return emitters_.size(); }
 
  private:
   struct Emitter {

@@ -130,6 +130,13 @@ class Blender:
         args += [str(a) for a in script_args]
         return self.run(args, name=name or Path(script).stem, **kw)
 
+    def render_cases(self, script, spec, out, record_name, name):
+        """Write `spec` to OUT/cases.json, run SCRIPT with (cases.json, OUT), return OUT/RECORD_NAME parsed."""
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "cases.json").write_text(json.dumps(spec, indent=1))
+        self.script(script, [out / "cases.json", out], name=name)
+        return json.loads((out / record_name).read_text())
+
     @property
     def version(self):
         return tuple(self.info["version"])

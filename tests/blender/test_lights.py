@@ -5,7 +5,6 @@ A Lambertian plane (Diffuse BSDF, albedo 0.8, roughness 0) seen straight down by
 light per case; Bounce renders with 1 sample at the pixel centres (filter_width 0). Combined must equal
 0.8 / pi * E within 1 % at every pixel brighter than 1 % of the case's peak.
 """
-import json
 import math
 
 import numpy as np
@@ -55,12 +54,7 @@ CASES = {c["name"]: c for c in SPEC["cases"]}
 
 @pytest.fixture(scope="module")
 def light_renders(blender, out_root):
-    out = out_root / "lights"
-    out.mkdir(parents=True, exist_ok=True)
-    spec_path = out / "cases.json"
-    spec_path.write_text(json.dumps(SPEC, indent=1))
-    blender.script("lights_scene.py", [spec_path, out], name="lights")
-    return json.loads((out / "lights.json").read_text())
+    return blender.render_cases("lights_scene.py", SPEC, out_root / "lights", "lights.json", "lights")
 
 
 # Cycles' area-light radiance per unit power: P / (4 A) in 3.4 (DESIGN.md), P / (pi A) in 4.3 and 5.2 (measured
@@ -145,13 +139,9 @@ def test_area_formula_matches_quadrature():
 
 def test_closed_forms_match_cycles(blender, out_root):
     """The closed forms above against Cycles of the same Blender (the oracle): mean ratio over the lit pixels."""
-    out = out_root / "lights-cycles"
-    out.mkdir(parents=True, exist_ok=True)
     spec = dict(SPEC, engine="CYCLES", cycles_samples=64, resolution=32,
                 cases=[c for c in SPEC["cases"] if "bounce" not in c])
-    (out / "cases.json").write_text(json.dumps(spec))
-    blender.script("lights_scene.py", [out / "cases.json", out], name="lights-cycles")
-    record_ = json.loads((out / "lights.json").read_text())
+    record_ = blender.render_cases("lights_scene.py", spec, out_root / "lights-cycles", "lights.json", "lights-cycles")
     n = spec["resolution"]
     pts = analytic.ortho_pixel_centres(n, spec["ortho_scale"], spec["center"]).reshape(-1, 3)
     bad = []

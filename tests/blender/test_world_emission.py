@@ -3,8 +3,6 @@
 (scripts/world_scene.py says how each expectation is computed). Closed forms, as Cycles measured them (issue 16):
 sky radiance 0.8 x world; emitter 0.8 x 10 x the view factor, 1.9157 below its centre (Cycles 1.9128).
 """
-import json
-
 import numpy as np
 import pytest
 
@@ -25,12 +23,7 @@ TOLERANCE = {"sky": 0.01, "hdri": 0.01, "emitter": 0.01}
 
 @pytest.fixture(scope="module")
 def world_renders(blender, out_root):
-    out = out_root / "world"
-    out.mkdir(parents=True, exist_ok=True)
-    spec_path = out / "cases.json"
-    spec_path.write_text(json.dumps(SPEC, indent=1))
-    blender.script("world_scene.py", [spec_path, out], name="world")
-    return json.loads((out / "world.json").read_text())
+    return blender.render_cases("world_scene.py", SPEC, out_root / "world", "world.json", "world")
 
 
 def expected_radiance(name, case):

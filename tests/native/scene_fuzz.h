@@ -234,6 +234,8 @@ inline BounceSettings random_settings(Random& random) {
       {&BounceSettings::ssvp_paraboloid_size, 64},
       {&BounceSettings::topology_resolution, 48},
       {&BounceSettings::topology_vpls, 256},
+      {&BounceSettings::world_lights, 8},
+      {&BounceSettings::emission_lights, 16},
   };
   for (const auto& [setting, cap] : kCostCaps) settings.*setting = std::min(settings.*setting, cap);
   if (random.chance(0.02f)) settings.samples = random.pick(std::array{0, -1});  // out of range: an error

@@ -157,7 +157,7 @@ def indirect_summary(info, light_names, method):
         return f"Topology: {info.vpl_count:,} VPLs, {info.cluster_count} visibility clusters"
     if info.main_light >= 0:
         name = light_names[info.main_light] if info.main_light < len(light_names) else "?"
-        return (f"SSVP: main light '{name}', {info.vpl_count:,} VPLs, {info.cluster_count} clusters")
+        return (f"SSVP: last sample bounced '{name}', {info.vpl_count:,} VPLs, {info.cluster_count} clusters")
     if info.vpl_count:
         return f"FLC: {info.vpl_count:,} VPLs, {info.divergent_triangles:,} triangles subdivided"
     return ""

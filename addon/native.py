@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 6  # BOUNCE_API_VERSION this module was written against
+API_VERSION = 7  # BOUNCE_API_VERSION this module was written against
 
 LIBRARY_ENV = "BOUNCE_LIBRARY"
 LIBRARY_NAME = "libbounce.so"
@@ -138,7 +138,8 @@ class Material(ctypes.Structure):
                 ("alpha_from_texture", _i32),
                 ("alpha_threshold", _f32),
                 ("emission", _f32 * 3),
-                ("double_sided", _i32)]
+                ("double_sided", _i32),
+                ("emission_texture", _u64)]
 
 
 class InstancesDesc(ctypes.Structure):
@@ -172,7 +173,8 @@ class World(ctypes.Structure):
     _fields_ = [("background", _f32 * 3),
                 ("transparent", _i32),
                 ("environment_texture", ctypes.c_uint64),
-                ("world_to_environment", _f32 * 9)]
+                ("world_to_environment", _f32 * 9),
+                ("camera_hidden", _i32)]
 
 
 class SceneStats(ctypes.Structure):

@@ -81,6 +81,25 @@ class BOUNCE_PT_light_shadow(BouncePanel, bpy.types.Panel):
             layout.prop(owner, name, text="Cast Shadow")
 
 
+class BOUNCE_PT_world_visibility(BouncePanel, bpy.types.Panel):
+    bl_label = "Visibility"
+    bl_context = "world"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and context.world is not None
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        # Cycles' flag, read by Bounce's export; absent when the Cycles add-on is disabled.
+        visibility = getattr(context.world, "cycles_visibility", None)
+        if visibility is not None:
+            layout.prop(visibility, "camera", text="Camera")
+        layout.prop(context.scene.render, "film_transparent", text="Film Transparent")
+
+
 class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
     bl_label = "Last Render"
     bl_options = {"DEFAULT_CLOSED"}
@@ -117,8 +136,8 @@ class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
 # Lines shown at the top of a settings group's panel.
 GROUP_NOTES = {
     "Screen-Space VPL Propagation":
-        "Only the main light bounces: the light that brings the most light into the scene (see Last Render or "
-        "the viewport's statistics for which). The other lights add direct light only.",
+        "Every light bounces, one per sample drawn by the light it brings into the scene: with several lights "
+        "(or a world, or emissive surfaces) the bounce needs more samples to lose its noise.",
     "Topology":
         "Renders on the CPU. The first render of a scene precomputes the topology of its empty space (cached by "
         "geometry and grid settings: moving the camera or a light reuses it). Rays pass through alpha cut-outs; "
@@ -219,7 +238,8 @@ def _settings_panels():
 
 
 def register():
-    _Registered.panels = [BOUNCE_PT_load_error, *_settings_panels(), BOUNCE_PT_last_render, BOUNCE_PT_light_shadow]
+    _Registered.panels = [BOUNCE_PT_load_error, *_settings_panels(), BOUNCE_PT_last_render, BOUNCE_PT_light_shadow,
+                          BOUNCE_PT_world_visibility]
     for panel in _Registered.panels:
         bpy.utils.register_class(panel)
     for panel in _borrowed_panels():

@@ -4,6 +4,7 @@ Understood node setups, walked back from the active Material Output's Surface in
   - Principled BSDF: Base Color, Alpha, Emission ("Emission" in 3.x, "Emission Color" in 4.x) x Emission Strength
   - Diffuse BSDF: Color
   - Emission: Color x Strength (no diffuse reflection)
+  (an emission colour is read as a base colour is, image texture included; a strength must be a constant)
   - Mix Shader of a Transparent BSDF (first input) and one of the above, whose Fac is an Image Texture's Alpha,
     directly or through a Math "Greater Than" node (the cut-out that shared/scenes/setups/common.py makes)
   - colours: a constant, an RGB node, an Image Texture's Color, or a Multiply mix of a texture and a constant
@@ -29,6 +30,7 @@ class SurfaceDesc:
     alpha_from_texture: bool = False  # the image's alpha is a cut-out
     alpha_threshold: Optional[float] = None  # None: the material's own (alpha clip) threshold
     emission: tuple = (0.0, 0.0, 0.0)
+    emission_image: Optional[object] = None  # bpy.types.Image whose colour multiplies emission
 
 
 class NotUnderstood(Exception):
@@ -76,8 +78,8 @@ def _describe_shader(node):
         color, image = _color_source(node.inputs["Color"])
         return SurfaceDesc(base_color=color, image=image)
     if kind == "EMISSION":
-        return SurfaceDesc(base_color=(0.0, 0.0, 0.0),
-                           emission=_emission(node.inputs["Color"], node.inputs["Strength"]))
+        emission, emission_image = _emission(node.inputs["Color"], node.inputs["Strength"])
+        return SurfaceDesc(base_color=(0.0, 0.0, 0.0), emission=emission, emission_image=emission_image)
     if kind == "MIX_SHADER":
         return _mix_shader(node)
     raise NotUnderstood(f"shader node '{node.name}' ({node.bl_label}) is not supported")
@@ -86,8 +88,8 @@ def _describe_shader(node):
 def _principled(node):
     color, image = _color_source(node.inputs["Base Color"])
     emission_color = node.inputs.get("Emission Color") or node.inputs.get("Emission")  # 4.x name, 3.x name
-    emission = _emission(emission_color, node.inputs.get("Emission Strength"))
-    desc = SurfaceDesc(base_color=color, image=image, emission=emission)
+    emission, emission_image = _emission(emission_color, node.inputs.get("Emission Strength"))
+    desc = SurfaceDesc(base_color=color, image=image, emission=emission, emission_image=emission_image)
     alpha_input = node.inputs["Alpha"]
     if alpha_input.is_linked:
         _set_cutout(desc, alpha_input)
@@ -180,18 +182,18 @@ def _multiply_inputs(node):
 
 
 def _emission(color_socket, strength_socket):
+    """(emitted radiance, image or None whose colour multiplies it): the colour as base colours are read."""
     if color_socket is None:
-        return (0.0, 0.0, 0.0)
+        return (0.0, 0.0, 0.0), None
     strength = 1.0
     if strength_socket is not None:
         if strength_socket.is_linked:
             raise NotUnderstood("a linked emission strength is not supported")
         strength = float(strength_socket.default_value)
-    if color_socket.is_linked:
-        if strength == 0.0:
-            return (0.0, 0.0, 0.0)
-        raise NotUnderstood("a linked emission colour is not supported")
-    return tuple(c * strength for c in _rgb(color_socket.default_value))
+    if strength == 0.0:
+        return (0.0, 0.0, 0.0), None
+    color, image = _color_source(color_socket)
+    return tuple(c * strength for c in color), image
 
 
 def upstream(socket):

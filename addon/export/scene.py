@@ -101,7 +101,7 @@ class SceneSync:
         # What the native scene holds (read and updated by _Walk):
         self.geometry = {}         # geometry key -> _Geometry
         self.textures = {}         # original image as_pointer() -> native texture key (NO_TEXTURE: no pixels)
-        self.material_cache = {}   # original material as_pointer() -> (native.Material, image pointer), kept
+        self.material_cache = {}   # original material as_pointer() -> (native.Material, image pointers), kept
                                    # until a material, node tree or image changes
         self._sent = {}            # table name -> bytes last sent
         self._next_key = 1
@@ -261,9 +261,8 @@ class _Walk:
     def _native_material(self, material, pointer):
         cached = self.sync.material_cache.get(pointer)
         if cached is not None:
-            native_material, image_pointer = cached
-            if image_pointer is not None:
-                self.textures_used.add(image_pointer)
+            native_material, image_pointers = cached
+            self.textures_used.update(image_pointers)
             return native_material
         surface = describe_material(material, self.reports)
         out = default_material()
@@ -271,15 +270,26 @@ class _Walk:
         out.alpha = surface.alpha
         out.alpha_threshold = surface.alpha_threshold if surface.alpha_threshold is not None else 0.5
         out.emission[:] = surface.emission
-        image_pointer = None
+        image_pointers = []
+
+        def texture_of(image):
+            """The image's texture key; NO_TEXTURE for none or a missing one (the caller draws magenta)."""
+            if image is None:
+                return native.NO_TEXTURE
+            image_pointers.append(image.original.as_pointer())
+            return self.texture_key(image, image_pointers[-1])
+
         if surface.image is not None:
-            image_pointer = surface.image.original.as_pointer()
-            out.base_color_texture = self.texture_key(surface.image, image_pointer)
+            out.base_color_texture = texture_of(surface.image)
             if out.base_color_texture == native.NO_TEXTURE:
                 out.base_color[:] = MISSING_IMAGE_COLOR
             else:
                 out.alpha_from_texture = 1 if surface.alpha_from_texture else 0
-        self.sync.material_cache[pointer] = (out, image_pointer)
+        if surface.emission_image is not None:
+            out.emission_texture = texture_of(surface.emission_image)
+            if out.emission_texture == native.NO_TEXTURE:
+                out.emission[:] = tuple(e * m for e, m in zip(surface.emission, MISSING_IMAGE_COLOR))
+        self.sync.material_cache[pointer] = (out, tuple(image_pointers))
         return out
 
     def texture_key(self, image, pointer):

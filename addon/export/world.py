@@ -1,6 +1,7 @@
 """The scene's world -> BounceWorld: a uniform radiance, or an equirectangular environment image times a factor,
 with the Mapping node's rotation and scale. The world lights the scene (Lights panel: World Directions) and is
-seen as the background.
+seen as the background, unless Film > Transparent is on (colour and alpha 0, as Cycles) or the world's Ray
+Visibility > Camera is off (black, alpha 1).
 
 Understood node setups (anything else is warned about and falls back to the world colour):
     [Background | Emission](Color: colour | Environment Texture, Strength)
@@ -22,6 +23,8 @@ def convert_world(scene, reports, texture_key):
     world = scene.world
     if world is None:
         return out
+    # Cycles' Ray Visibility > Camera (the Cycles add-on defines it; Blender without it has no such flag).
+    out.camera_hidden = 0 if getattr(getattr(world, "cycles_visibility", None), "camera", True) else 1
     try:
         background, image, mapping = _describe(world)
     except NotUnderstood as reason:

@@ -89,7 +89,7 @@ void Engine::set_lights(uint32_t count, const BounceLight* lights) {
 
 void Engine::set_world(const BounceWorld& world) {
   BounceWorld w = world;
-  for (float& c : w.background) c = std::isfinite(c) ? std::max(c, 0.0f) : 0.0f;
+  for (float& c : w.background) c = std::isfinite(c) ? std::clamp(c, 0.0f, kMaxIntensity) : 0.0f;
   // A non-finite or singular mapping (a Mapping node scaled to 0) maps nothing: the identity instead.
   const glm::mat3 mapping = glm::make_mat3(w.world_to_environment);
   const float det = glm::determinant(mapping);

@@ -190,12 +190,12 @@ void GpuScene::draw(GLenum mode) const {
       bound_mesh = batch.mesh;
     }
     const BounceMaterial* material = batch.material < materials_.size() ? &materials_[batch.material] : nullptr;
-    GLuint texture = white_texture_.id();
-    if (material && material->base_color_texture != BOUNCE_NO_TEXTURE) {
-      const auto found = textures_.find(material->base_color_texture);
-      if (found != textures_.end()) texture = found->second.texture.id();
-    }
-    glBindTextureUnit(binding::kBaseColorUnit, texture);
+    auto texture_or_white = [&](uint64_t key) {
+      const GLuint id = texture_id(key);
+      return id != 0 ? id : white_texture_.id();
+    };
+    glBindTextureUnit(binding::kBaseColorUnit, texture_or_white(material ? material->base_color_texture : 0));
+    glBindTextureUnit(binding::kEmissionUnit, texture_or_white(material ? material->emission_texture : 0));
     glUniform1i(binding::kInstanceOffset, static_cast<GLint>(batch.instance_offset));
     glUniform1i(binding::kMaterial, static_cast<GLint>(batch.material));
     glDrawArraysInstanced(mode, static_cast<GLint>(batch.first_vertex), static_cast<GLsizei>(batch.vertex_count),

@@ -25,6 +25,7 @@ constexpr GLuint kInstanceLists = 2;
 constexpr GLuint kMaterials = 3;
 constexpr GLuint kLightBlock = 4;
 constexpr GLuint kBaseColorUnit = 0;
+constexpr GLuint kEmissionUnit = 16;
 }  // namespace binding
 
 class GpuScene {

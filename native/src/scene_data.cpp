@@ -25,7 +25,8 @@ namespace bounce {
 //   - a point, spot or area light placed beyond kMaxCoordinate is skipped (out_of_range_lights); a sun has no
 //     position and is kept;
 //   - a light brighter than kMaxIntensity is dimmed to it, its colour kept, and radii and area sizes beyond
-//     kMaxCoordinate are cut to it (clamped_lights).
+//     kMaxCoordinate are cut to it (clamped_lights); float texels and the world's factor are clamped to
+//     [0, kMaxIntensity] and non-finite ones zeroed (their product stays finite).
 // 1e9 m (a million kilometres, where float32 steps by 64 m) keeps planet-sized scenes while leaving nine orders of
 // magnitude to Embree's limit and the squares of distances; 1e15 W/sr times the largest area or sun disk the range
 // allows (~1e19 m^2) stays a thousand times below FLT_MAX.
@@ -298,8 +299,10 @@ std::shared_ptr<const TextureData> prepare_texture(uint64_t key, int32_t width, 
   texture->bytes.assign(bytes, bytes + texel_bytes * std::size_t(width) * std::size_t(height));
   if (format == BOUNCE_TEXTURE_RGBA32F) {
     auto* texels = reinterpret_cast<float*>(texture->bytes.data());
+    // Radiance and albedo as lights take them (kMaxIntensity): an environment texel times the world's factor,
+    // both at most 1e15, stays finite in float32, where 1e30 x 1e30 would not.
     for (std::size_t i = 0; i < std::size_t(width) * height * 4; ++i)
-      if (!std::isfinite(texels[i])) texels[i] = 0.0f;
+      texels[i] = std::isfinite(texels[i]) ? std::clamp(texels[i], 0.0f, kMaxIntensity) : 0.0f;
   }
   return texture;
 }

@@ -29,6 +29,22 @@ std::size_t find_in_cdf(const std::vector<double>& cdf, double target) {
   return i;
 }
 
+// The mean of `texture` over the triangle (uv0, uv1, uv2) of texture space, as the camera sees it (bilinear):
+// 64 stratified samples per texel the triangle covers, 16 to 4096, so that a screen's two triangles carry the
+// picture's mean colour.
+glm::vec3 triangle_mean(const TextureData& texture, glm::vec2 uv0, glm::vec2 uv1, glm::vec2 uv2) {
+  const glm::vec2 e1 = uv1 - uv0, e2 = uv2 - uv0;
+  const float texels = 0.5f * std::abs(e1.x * e2.y - e1.y * e2.x) * float(texture.width) * float(texture.height);
+  const int count = std::isfinite(texels) ? int(std::clamp(64.0f * texels, 16.0f, 4096.0f)) : 16;
+  glm::vec3 sum(0.0f);
+  for (int i = 0; i < count; ++i) {
+    const glm::vec3 p = uniform_triangle_point(glm::vec3(uv0, 0.0f), glm::vec3(uv1, 0.0f), glm::vec3(uv2, 0.0f),
+                                               r2_point(uint32_t(i), glm::vec2(0.0f)));
+    sum += glm::vec3(texture_sample(texture, glm::vec2(p)));
+  }
+  return sum / float(count);
+}
+
 }  // namespace
 
 glm::vec2 equirect_uv(glm::vec3 e) {
@@ -57,16 +73,22 @@ void SceneLights::update(const GpuScene& scene) {
     emitters_.clear();
     emitter_cdf_.assign(1, 0.0);
     for (const GpuScene::DrawnPart& part : scene.drawn_parts()) {
-      const glm::vec3 radiance = glm::max(glm::make_vec3(part.material.emission), glm::vec3(0.0f));
-      if (!(weight(radiance) > 0.0f)) continue;
+      const glm::vec3 emission = glm::max(glm::make_vec3(part.material.emission), glm::vec3(0.0f));
+      if (!(weight(emission) > 0.0f)) continue;
+      const TextureData* texture = scene.texture_data(part.material.emission_texture);
       const glm::mat4& m = part.instance.object_to_world;
       for (uint32_t v = part.submesh.first_vertex; v + 2 < part.submesh.first_vertex + part.submesh.vertex_count;
            v += 3) {
+        const Vertex* vertex = &part.mesh.vertices[v];
         glm::vec3 corner[3];
-        for (int k = 0; k < 3; ++k)
-          corner[k] = glm::vec3(m * glm::vec4(glm::make_vec3(part.mesh.vertices[v + k].position), 1.0f));
+        for (int k = 0; k < 3; ++k) corner[k] = glm::vec3(m * glm::vec4(glm::make_vec3(vertex[k].position), 1.0f));
         const float area = 0.5f * glm::length(glm::cross(corner[1] - corner[0], corner[2] - corner[0]));
         if (!(area > 0.0f) || !std::isfinite(area)) continue;  // the transform collapsed it
+        const glm::vec3 radiance =
+            texture ? emission * triangle_mean(*texture, glm::make_vec2(vertex[0].uv), glm::make_vec2(vertex[1].uv),
+                                               glm::make_vec2(vertex[2].uv))
+                    : emission;
+        if (!(weight(radiance) > 0.0f)) continue;
         emitters_.push_back({corner[0], corner[1], corner[2], radiance});
         emitter_cdf_.push_back(emitter_cdf_.back() + double(weight(radiance)) * double(area));
       }

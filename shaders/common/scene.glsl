@@ -16,6 +16,7 @@ layout(location = 0) uniform mat4 u_view_projection;
 layout(location = 1) uniform int u_instance_offset;
 layout(location = 2) uniform int u_material;
 layout(binding = 0) uniform sampler2D u_base_color_texture;
+layout(binding = 16) uniform sampler2D u_emission_texture;  // white when the material has none
 
 #ifdef BOUNCE_VERTEX_SHADER
 Instance current_instance() { return instances[instance_lists[u_instance_offset + gl_InstanceID]]; }
@@ -27,6 +28,10 @@ vec4 surface_base_color(vec2 uv) {
   vec4 texel = texture(u_base_color_texture, uv);
   float alpha = m.flags.y != 0 ? m.base_color_alpha.a * texel.a : m.base_color_alpha.a;
   return vec4(m.base_color_alpha.rgb * texel.rgb, alpha);
+}
+
+vec3 surface_emission(vec2 uv) {
+  return materials[u_material].emission_threshold.rgb * texture(u_emission_texture, uv).rgb;
 }
 
 bool surface_is_cut_out(float alpha) { return alpha < materials[u_material].emission_threshold.a; }

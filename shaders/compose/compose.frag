@@ -11,7 +11,7 @@ layout(binding = 12) uniform sampler2D vpls;
 
 layout(binding = 13) uniform sampler2D environment;
 
-layout(location = 0) uniform vec3 u_background;
+layout(location = 0) uniform vec3 u_background;  // 0 where the camera does not see the world (transparent, hidden)
 layout(location = 1) uniform float u_background_alpha;
 layout(location = 2) uniform int u_has_indirect;
 layout(location = 3) uniform int u_indirect_times_albedo;

@@ -32,6 +32,6 @@ void main() {
   out_albedo = vec4(base.rgb, 1.0);
   out_normal = vec4(shading, 0.0);
   out_position = vec4(v_world_position, -(u_world_to_view * vec4(v_world_position, 1.0)).z);
-  out_emission = vec4(materials[u_material].emission_threshold.rgb, 0.0);
+  out_emission = vec4(surface_emission(v_uv), 0.0);
   out_geometric_normal = vec4(geometric, 0.0);
 }

@@ -1,7 +1,8 @@
 """The world and emissive surfaces light the scene, through Blender (F12 path), with every method: a Lambertian plane
 (albedo 0.8) seen straight down, under a uniform sky, under a rotated studio HDRI, and below a square emitter
 (scripts/world_scene.py says how each expectation is computed). Closed forms, as Cycles measured them (issue 16):
-sky radiance 0.8 x world; emitter 0.8 x 10 x the view factor, 1.9157 below its centre (Cycles 1.9128).
+sky radiance 0.8 x world; emitter 0.8 x 10 x the view factor, 1.9157 below its centre (Cycles 1.9128); an emission
+colour from an image texture tints that light.
 """
 import numpy as np
 import pytest
@@ -12,13 +13,13 @@ from conftest import layer_pass, read_exr, record
 METHODS = ["DIRECT", "FLC", "SSVP", "TOPOLOGY"]
 SPEC = {
     "resolution": 32, "ortho_scale": 4.0, "center": [0.0, 0.0], "camera_height": 20.0, "plane_size": 100.0,
-    "methods": METHODS, "cases": ["sky", "hdri", "emitter"],
+    "methods": METHODS, "cases": ["sky", "hdri", "emitter", "textured_emitter"],
     "bounce": {"samples": 256, "filter_width": 0.0, "shadow_map_size": 512},
 }
 # The sky and the HDRI are sampled by directions shared by all pixels: 64 samples x 4 directions, stratified in
 # elevation and azimuth (HDRI: 0.5 % at 64 samples, 4.3 % when one coordinate drew from the flattened table); the
 # emitter's two triangles are exact (Lambert's formula).
-TOLERANCE = {"sky": 0.01, "hdri": 0.01, "emitter": 0.01}
+TOLERANCE = {"sky": 0.01, "hdri": 0.01, "emitter": 0.01, "textured_emitter": 0.01}
 
 
 @pytest.fixture(scope="module")
@@ -29,14 +30,14 @@ def world_renders(blender, out_root):
 def expected_radiance(name, case):
     n = SPEC["resolution"]
     expected = case["expected"]
-    if name == "emitter":
+    if name in ("emitter", "textured_emitter"):
         pts = analytic.ortho_pixel_centres(n, SPEC["ortho_scale"], SPEC["center"]).reshape(-1, 3)
         h, z = expected["emitter_half"], expected["emitter_height"]
         corners = np.array([[-h, -h, z], [h, -h, z], [h, h, z], [-h, h, z]])
         irradiance = analytic.polygon_irradiance(corners, expected["emission"], np.array([0.0, 0.0, -1.0]),
                                                  np.array([0.0, 0.0, z]), pts)
         radiance = (0.8 / np.pi * irradiance).reshape(n, n)
-        return np.repeat(radiance[:, :, None], 3, axis=2)
+        return radiance[:, :, None] * np.asarray(expected["tint"])[None, None, :]
     return np.broadcast_to(np.asarray(expected["radiance"], dtype=np.float64), (n, n, 3))
 
 
@@ -50,7 +51,7 @@ def test_world_and_emission_light_the_plane(name, method, world_renders):
     n = SPEC["resolution"]
     pts = analytic.ortho_pixel_centres(n, SPEC["ortho_scale"], SPEC["center"]).reshape(n, n, 3)
     # The emitter hides the plane below it (the camera sees its emission): compared outside its footprint.
-    mask = np.ones((n, n), bool) if name != "emitter" else np.max(np.abs(pts[:, :, :2]), axis=2) > 0.6
+    mask = np.max(np.abs(pts[:, :, :2]), axis=2) > 0.6 if "emitter" in name else np.ones((n, n), bool)
     ratio = rgb[mask].mean(axis=0) / expected[mask].mean(axis=0)
     record(f"world_{name}_{method}_ratio", [round(float(r), 4) for r in ratio])
     assert np.all(np.abs(ratio - 1.0) < TOLERANCE[name]), f"{name}, {method}: mean ratio {ratio} to the closed form"

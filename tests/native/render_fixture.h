@@ -70,23 +70,26 @@ class RenderFixture : public ::testing::Test {
   void TearDown() override { bounce_engine_destroy(engine_); }
 
   // A square of side `size` in the z = 0 plane, centred at the origin, facing +z.
-  void add_mesh(uint64_t key, const std::vector<float>& positions, const std::vector<uint32_t>& triangles) {
+  void add_mesh(uint64_t key, const std::vector<float>& positions, const std::vector<uint32_t>& triangles,
+                const std::vector<float>& corner_uvs = {}) {
     BounceMeshDesc mesh{};
     mesh.vertex_count = static_cast<uint32_t>(positions.size() / 3);
     mesh.positions = positions.data();
     mesh.triangle_count = static_cast<uint32_t>(triangles.size() / 3);
     mesh.triangles = triangles.data();
+    mesh.corner_uvs = corner_uvs.empty() ? nullptr : corner_uvs.data();
     ASSERT_BOUNCE_OK(bounce_mesh_set(engine_, key, &mesh));
   }
-  // A triangle soup (vertices 3i, 3i + 1, 3i + 2 make triangle i) as one mesh.
-  void add_soup(uint64_t key, const std::vector<glm::vec3>& vertices) {
-    std::vector<float> positions;
+  // A triangle soup (vertices 3i, 3i + 1, 3i + 2 make triangle i) as one mesh, with a uv per corner if given.
+  void add_soup(uint64_t key, const std::vector<glm::vec3>& vertices, const std::vector<glm::vec2>& uvs = {}) {
+    std::vector<float> positions, corner_uvs;
     std::vector<uint32_t> triangles;
     for (const glm::vec3& v : vertices) {
       triangles.push_back(static_cast<uint32_t>(positions.size() / 3));
       positions.insert(positions.end(), {v.x, v.y, v.z});
     }
-    add_mesh(key, positions, triangles);
+    for (const glm::vec2& uv : uvs) corner_uvs.insert(corner_uvs.end(), {uv.x, uv.y});
+    add_mesh(key, positions, triangles, corner_uvs);
   }
   void add_plane(uint64_t key, float size) {
     const float h = size / 2;

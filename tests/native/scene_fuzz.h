@@ -82,6 +82,8 @@ struct Scene {
   std::vector<uint32_t> slot_offsets, slot_counts, slot_materials;
   std::vector<BounceLight> lights;
   BounceWorld world{};
+  int environment_width = 0, environment_height = 0;  // world.environment_texture's RGBA32F texels, if any
+  std::vector<float> environment;
   BounceCamera camera{};
   BounceSettings settings{};
 };
@@ -278,6 +280,26 @@ inline Scene generate(uint64_t seed, uint64_t index) {
   scene.camera = random_camera(random);
   scene.settings = random_settings(random);
   scene.settings.method = random.integer(BOUNCE_METHOD_AUTO, BOUNCE_METHOD_TOPOLOGY);
+  // Drawn last, so that the scenes of earlier repro files stay as they were.
+  scene.world.camera_hidden = random.chance(0.2f);
+  if (random.chance(0.4f)) {  // an environment: tiny, wider than the importance table, with a 1e6 sun or worse
+    scene.environment_width = random.pick(std::array{1, 2, 64, 700});
+    scene.environment_height = random.pick(std::array{1, 32, 300});
+    scene.environment.assign(std::size_t(scene.environment_width) * scene.environment_height * 4,
+                             random.pick(std::array{0.0f, 0.5f, 1.0f}));
+    for (int spot = random.integer(0, 3); spot > 0; --spot)
+      scene.environment[random.next() % scene.environment.size()] = random.pick(std::array{1e6f, 1e30f, -1.0f, kNaN});
+    scene.world.environment_texture = 77;
+    for (int i = 0; i < 9; ++i)  // a rotation, a singular or a NaN Mapping
+      scene.world.world_to_environment[i] = random.chance(0.1f) ? random.pick(std::array{0.0f, kNaN, 1e30f})
+                                            : i % 4 == 0        ? 1.0f
+                                                                : 0.0f;
+    if (random.chance(0.4f)) {
+      const glm::mat3 rotation =
+          glm::mat3(glm::rotate(glm::mat4(1.0f), random.uniform(0.0f, 6.3f), random_direction(random)));
+      std::memcpy(scene.world.world_to_environment, glm::value_ptr(rotation), sizeof rotation);
+    }
+  }
   return scene;
 }
 
@@ -360,6 +382,10 @@ inline Outcome run_case(const Scene& scene) {
   call_ok(bounce_instances_set(engine, &instances), "bounce_instances_set", outcome);
   call_ok(bounce_lights_set(engine, static_cast<uint32_t>(scene.lights.size()), scene.lights.data()),
           "bounce_lights_set", outcome);
+  if (!scene.environment.empty())
+    call_ok(bounce_texture_set(engine, scene.world.environment_texture, scene.environment_width,
+                               scene.environment_height, BOUNCE_TEXTURE_RGBA32F, scene.environment.data()),
+            "bounce_texture_set", outcome);
   call_ok(bounce_world_set(engine, &scene.world), "bounce_world_set", outcome);
   BounceSceneStats stats{};
   call_ok(bounce_scene_stats(engine, &stats), "bounce_scene_stats", outcome);

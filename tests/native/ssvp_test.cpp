@@ -220,25 +220,39 @@ TEST(SsvpKMeans, HardCases) {
   EXPECT_EQ(c.clusters.size(), 2u);
 }
 
-TEST(SsvpMath, MainLightIsTheOneBringingTheMostFlux) {
+TEST(SsvpMath, BouncingLightIsDrawnByItsFlux) {
   BounceLight sun = make_light(BOUNCE_LIGHT_SUN, glm::vec3(0), glm::vec3(3.0f));
   BounceLight point = make_light(BOUNCE_LIGHT_POINT, glm::vec3(0), glm::vec3(10.0f));
   const glm::vec3 centre(0.0f);
-  // Sun: 3 W/m^2 over pi (1 m)^2 = 9.4 W; point inside: 4 pi 10 = 126 W.
-  EXPECT_EQ(ssvp::choose_main_light(std::vector<BounceLight>{sun, point}, centre, 1.0f), 1);
+  auto draw = [&](const std::vector<BounceLight>& lights, float u) {
+    return ssvp::draw_bouncing_light(lights, centre, 1.0f, u);
+  };
+  // Sun: 3 W/m^2 over pi (1 m)^2 = 9.4 W; point inside: 4 pi 10 = 126 W. Each is drawn for its share of u.
+  const float sun_share = 3.0f * kPi / (3.0f * kPi + 40.0f * kPi);
+  EXPECT_EQ(draw({sun, point}, 0.5f * sun_share).index, 0);
+  EXPECT_NEAR(draw({sun, point}, 0.5f * sun_share).probability, sun_share, 1e-6);
+  EXPECT_EQ(draw({sun, point}, sun_share + 0.01f).index, 1);
+  EXPECT_NEAR(draw({sun, point}, 0.99f).probability, 1.0f - sun_share, 1e-6);
+  EXPECT_EQ(draw({sun, point}, 1.0f).index, 1);  // u's upper end stays on the last light
   // Far outside, the point light sends only a sliver of its flux into the sphere.
   std::memcpy(point.position, &glm::vec3(100, 0, 0)[0], 12);
-  EXPECT_EQ(ssvp::choose_main_light(std::vector<BounceLight>{sun, point}, centre, 1.0f), 0);
+  EXPECT_GT(draw({sun, point}, 0.0f).probability, 0.99f);
+  // Lights that send nothing are never drawn; with none left, none bounces.
   BounceLight dark = make_light(BOUNCE_LIGHT_POINT, glm::vec3(0), glm::vec3(0.0f));
-  EXPECT_EQ(ssvp::choose_main_light(std::vector<BounceLight>{dark}, centre, 1.0f), -1);
-  // A spot outside the sphere aimed away from it sends nothing: the dimmer light bounces.
+  EXPECT_EQ(draw({dark}, 0.5f).index, -1);
+  EXPECT_EQ(draw({dark, sun, dark}, 0.0f).index, 1);
+  EXPECT_EQ(draw({dark, sun, dark}, 1.0f).index, 1);
+  EXPECT_EQ(draw({dark, sun, dark}, 0.5f).probability, 1.0f);
+  // A spot outside the sphere aimed away from it sends nothing.
   BounceLight spot = make_light(BOUNCE_LIGHT_SPOT, glm::vec3(0, 0, 5), glm::vec3(1000.0f));
   const float up[3] = {0, 0, 1};
   std::memcpy(spot.axis_z, up, 12);  // shining along -z, towards the sphere
-  EXPECT_EQ(ssvp::choose_main_light(std::vector<BounceLight>{sun, spot}, centre, 1.0f), 1);
+  EXPECT_GT(draw({sun, spot}, 0.5f).probability, 0.9f);
+  EXPECT_EQ(draw({sun, spot}, 0.5f).index, 1);
   const float down[3] = {0, 0, -1};
   std::memcpy(spot.axis_z, down, 12);  // shining along +z, away
-  EXPECT_EQ(ssvp::choose_main_light(std::vector<BounceLight>{sun, spot}, centre, 1.0f), 0);
+  EXPECT_EQ(draw({sun, spot}, 0.99f).index, 0);
+  EXPECT_EQ(draw({sun, spot}, 0.99f).probability, 1.0f);
 }
 
 class Ssvp : public RenderFixture {

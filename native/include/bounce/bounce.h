@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 6
+#define BOUNCE_API_VERSION 7
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,
@@ -141,6 +141,8 @@ typedef struct BounceMaterial {
   float alpha_threshold;       /* cut-out: a surface point exists where alpha >= threshold */
   float emission[3];           /* emitted radiance, colour * strength (W/m^2/sr), seen by the camera */
   int32_t double_sided;        /* reserved, 1 */
+  uint64_t emission_texture;   /* texture key or BOUNCE_NO_TEXTURE: its colour multiplies emission (as a light, each
+                                  emissive triangle carries the texture's mean over the triangle) */
 } BounceMaterial;
 
 /* Replaces the whole material table. Instances refer to materials by index into it. */
@@ -206,9 +208,11 @@ BOUNCE_API BounceStatus bounce_lights_set(BounceEngine* engine, uint32_t count, 
  * hypot(e.x, e.y)) / pi + 0.5) of e = world_to_environment * d. */
 typedef struct BounceWorld {
   float background[3];           /* radiance, or the environment's factor (colour * strength) */
-  int32_t transparent;           /* background alpha 0 instead of 1 */
+  int32_t transparent;           /* the camera sees colour 0 and alpha 0 where it sees the world (Film > Transparent) */
   uint64_t environment_texture;  /* a texture key (bounce_texture_set), or BOUNCE_NO_TEXTURE for a uniform world */
   float world_to_environment[9]; /* column-major 3x3 applied to a direction before the lookup (Mapping node) */
+  int32_t camera_hidden;         /* the camera sees colour 0, alpha 1, where it sees the world (the world's Ray
+                                    Visibility > Camera off); the world lights the scene all the same */
 } BounceWorld;
 
 BOUNCE_API BounceStatus bounce_world_set(BounceEngine* engine, const BounceWorld* world);
@@ -315,8 +319,9 @@ typedef struct BounceFrameInfo {
   uint64_t nonfinite_pixels;    /* pixels with a NaN/Inf value in some AOV, which was zeroed (should be 0) */
   uint64_t vpl_count;           /* virtual point lights of the last sample (FLC, SSVP: both bounces) */
   uint64_t divergent_triangles; /* triangles the last sample sent to the tessellator (FLC) */
-  int32_t main_light;           /* SSVP: the light that bounces, as its index in bounce_lights_set's list; -1: none, or
-                                   the world or an emissive surface */
+  int32_t main_light;           /* SSVP: the light whose bounce the last sample propagated (each sample draws one
+                                   by its flux), as its index in bounce_lights_set's list; -1: none, or the world or
+                                   an emissive surface */
   int32_t cluster_count;        /* SSVP: k-means clusters of the last sample; TOPOLOGY: visibility clusters */
 } BounceFrameInfo;
 

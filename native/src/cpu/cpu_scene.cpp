@@ -29,9 +29,9 @@ bool CpuScene::sync(const GpuScene& scene) {
     if (added) {
       const BounceMaterial& m = part.material;
       const TextureData* texture = scene.texture_data(m.base_color_texture);
-      const bool usable = texture && texture->width > 0 && texture->height > 0;
-      materials_.push_back({glm::make_vec3(m.base_color), glm::make_vec3(m.emission), usable ? texture : nullptr,
-                            m.alpha, m.alpha_threshold, usable && m.alpha_from_texture != 0});
+      materials_.push_back({glm::make_vec3(m.base_color), glm::make_vec3(m.emission), texture,
+                            scene.texture_data(m.emission_texture), m.alpha, m.alpha_threshold,
+                            texture && m.alpha_from_texture != 0});
     }
     const glm::mat4& to_world = part.instance.object_to_world;
     const glm::mat3 normal_to_world(part.instance.normal_to_world);
@@ -105,7 +105,10 @@ Surface CpuScene::surface(const embree::Hit& hit, glm::vec3 dir) const {
   shading = length > 0.0f && std::isfinite(length) ? shading / length : s.normal;
   s.shading_normal = glm::dot(shading, s.normal) < 0.0f ? -shading : shading;
   s.albedo = albedo(t, hit.u, hit.v);
-  s.emission = materials_[material_of_[t]].emission;
+  const Material& material = materials_[material_of_[t]];
+  s.emission = material.emission_texture
+                   ? material.emission * glm::vec3(texture_sample(*material.emission_texture, uv(t, hit.u, hit.v)))
+                   : material.emission;
   return s;
 }
 

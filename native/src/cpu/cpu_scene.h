@@ -58,6 +58,7 @@ class CpuScene {
     glm::vec3 base_color{0.8f};
     glm::vec3 emission{0.0f};
     const TextureData* texture = nullptr;  // owned by the GpuScene, which outlives every sync
+    const TextureData* emission_texture = nullptr;
     float alpha = 1.0f, alpha_threshold = 0.0f;
     bool alpha_from_texture = false;
   };

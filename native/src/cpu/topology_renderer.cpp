@@ -364,6 +364,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   const BounceWorld& world = scene.world();
   const WorldRadiance world_radiance(world, scene.texture_data(world.environment_texture));
   const float background_alpha = world.transparent ? 0.0f : 1.0f;
+  const float background_seen = world.transparent || world.camera_hidden ? 0.0f : 1.0f;
 
   struct Sums {
     std::vector<glm::vec3> combined, direct, emission, albedo, normal, indirect, second;
@@ -580,7 +581,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
     for (std::size_t i = 0; i < pixels; ++i) {
       const ViewSample& v = view[i];
       if (!v.hit) {  // the world, as the GPU methods' compose pass adds it
-        sums.combined[i] += world_radiance(v.direction);
+        sums.combined[i] += background_seen * world_radiance(v.direction);
         sums.alpha[i] += background_alpha;
         continue;
       }

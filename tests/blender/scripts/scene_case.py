@@ -222,6 +222,64 @@ def case_emission(scene):
     glow.location = (0, 0, 0.02)
 
 
+def environment_world(scene, image):
+    """The black world's Background fed by an Environment Texture of `image` (strength 1)."""
+    nodes, links = scene.world.node_tree.nodes, scene.world.node_tree.links
+    background = next(n for n in nodes if n.type == "BACKGROUND")
+    background.inputs["Strength"].default_value = 1.0
+    environment = nodes.new("ShaderNodeTexEnvironment")
+    environment.image = image
+    links.new(environment.outputs["Color"], background.inputs["Color"])
+
+
+def float_image(name, width, height, rgba):
+    image = bpy.data.images.new(name, width, height, float_buffer=True)
+    image.pixels.foreach_set(rgba)
+    return image
+
+
+def case_hdri_sun_pixel(scene):
+    """A sky of radiance 0.1 with one texel of 1e6 (64 x 32, 45 degrees up): the ground is lit by a sun."""
+    base(scene, light=False)
+    rgba = [0.1, 0.1, 0.1, 1.0] * (64 * 32)
+    rgba[(24 * 64 + 10) * 4:(24 * 64 + 10) * 4 + 3] = [1e6] * 3
+    environment_world(scene, float_image("sun_pixel", 64, 32, rgba))
+
+
+def case_environment_1x1(scene):
+    """A 1 x 1 environment of (0.5, 0.25, 1): a uniform sky; the open ground reflects 0.8 of it. The world's Ray
+    Visibility > Camera is off: the camera sees black beyond the ground."""
+    base(scene, light=False)
+    scene.bounce.samples = 64  # 256 world directions
+    environment_world(scene, float_image("one_texel", 1, 1, [0.5, 0.25, 1.0, 1.0]))
+    scene.world.cycles_visibility.camera = False
+
+
+def case_missing_environment(scene):
+    """An Environment Texture whose file is missing: magenta, as Cycles, and reported."""
+    base(scene, light=False)
+    scene.bounce.samples = 64
+    image = bpy.data.images.new("missing_sky", 4, 4)
+    image.source = "FILE"
+    image.filepath = "/nonexistent/bounce-missing-sky.exr"
+    environment_world(scene, image)
+
+
+def case_emitter_1e9(scene):
+    """A black world; an emissive quad of strength 1e9 above the ground, in one mesh with two zero-area faces."""
+    base(scene, light=False)
+    mat = bpy.data.materials.new("Blinding")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    emission = nt.nodes.new("ShaderNodeEmission")
+    emission.inputs["Strength"].default_value = 1e9
+    nt.links.new(emission.outputs["Emission"], nt.nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
+    bc.add_mesh(scene, "Blinding",
+                [(-0.5, -0.5, 1.0), (0.5, -0.5, 1.0), (0.5, 0.5, 1.0), (-0.5, 0.5, 1.0), (1, 1, 1), (2, 1, 1),
+                 (3, 1, 1)], [(0, 3, 2, 1), (4, 5, 6), (4, 4, 5)], mat)
+
+
 def main():
     case, out = bc.args()[:2]
     method = bc.args()[2] if len(bc.args()) > 2 else "DIRECT"

@@ -4,6 +4,7 @@ OUT/world.json with what each case expects, computed here from Blender's own dat
 
   sky:     a uniform white world of strength 1: radiance 0.8 everywhere;
   emitter: a 1 m square Emission surface of strength 10, 1 m above the plane (the test computes its view factor);
+  textured_emitter: the same, its colour from a one-texel Image Texture: the emitter's light times the texel;
   hdri:    Blender's studio HDRI forest.exr through a Mapping node rotated (30, 0, 45) degrees, strength 0.5: the
            plane's radiance 0.8 / pi x the environment's cosine-weighted integral over the upper hemisphere,
            summed here over the image's pixels (numpy), independently of the add-on and the core.
@@ -76,7 +77,7 @@ def hdri_sky(scene):
     return {"radiance": list(0.8 / math.pi * irradiance), "image": path}
 
 
-def emitter(scene):
+def emitter(scene, tint=None):
     bc.black_world(scene)
     material = bpy.data.materials.new("Emitter")
     material.use_nodes = True
@@ -86,11 +87,22 @@ def emitter(scene):
     emission.inputs["Strength"].default_value = 10.0
     output = nodes.new("ShaderNodeOutputMaterial")
     material.node_tree.links.new(emission.outputs["Emission"], output.inputs["Surface"])
+    if tint is not None:
+        image = bpy.data.images.new("Tint", 1, 1, float_buffer=True)
+        image.pixels.foreach_set([*tint, 1.0])
+        texture = nodes.new("ShaderNodeTexImage")
+        texture.image = image
+        material.node_tree.links.new(texture.outputs["Color"], emission.inputs["Color"])
     bc.add_plane(scene, 1.0, z=1.0, material=material, name="Emitter")
-    return {"emission": 10.0, "emitter_half": 0.5, "emitter_height": 1.0}
+    return {"emission": 10.0, "emitter_half": 0.5, "emitter_height": 1.0, "tint": list(tint or (1.0, 1.0, 1.0))}
 
 
-CASES = {"sky": uniform_sky, "hdri": hdri_sky, "emitter": emitter}
+def textured_emitter(scene):
+    """The emitter with its colour from an Image Texture (one texel (0.25, 0.5, 1)): the light takes its colour."""
+    return emitter(scene, tint=(0.25, 0.5, 1.0))
+
+
+CASES = {"sky": uniform_sky, "hdri": hdri_sky, "emitter": emitter, "textured_emitter": textured_emitter}
 
 
 def main():

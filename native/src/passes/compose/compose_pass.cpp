@@ -43,7 +43,8 @@ void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffe
   glBindTextureUnit(12, indirect.vpls);
   glUseProgram(program_.id());
   const BounceWorld& world = context.scene.world();
-  glUniform3fv(0, 1, world.background);
+  const float seen = world.transparent || world.camera_hidden ? 0.0f : 1.0f;
+  glUniform3f(0, seen * world.background[0], seen * world.background[1], seen * world.background[2]);
   glUniform1f(1, world.transparent ? 0.0f : 1.0f);
   const GLuint environment = context.scene.texture_id(world.environment_texture);
   glBindTextureUnit(13, environment);

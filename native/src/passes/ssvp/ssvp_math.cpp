@@ -96,17 +96,21 @@ float estimated_flux_into_sphere(const BounceLight& light, glm::vec3 centre, flo
   }
 }
 
-int choose_main_light(std::span<const BounceLight> lights, glm::vec3 centre, float radius) {
-  int best = -1;
-  float best_flux = 0.0f;
+LightDraw draw_bouncing_light(std::span<const BounceLight> lights, glm::vec3 centre, float radius, float u) {
+  std::vector<double> flux(lights.size());
+  double total = 0.0;
+  for (std::size_t i = 0; i < lights.size(); ++i)
+    total += flux[i] = estimated_flux_into_sphere(lights[i], centre, radius);
+  LightDraw draw;
+  if (!(total > 0.0) || !std::isfinite(total)) return draw;
+  double target = std::clamp(double(u), 0.0, 1.0) * total;
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    const float flux = estimated_flux_into_sphere(lights[i], centre, radius);
-    if (flux > best_flux) {
-      best_flux = flux;
-      best = static_cast<int>(i);
-    }
+    if (!(flux[i] > 0.0)) continue;
+    draw = {static_cast<int>(i), static_cast<float>(flux[i] / total)};
+    target -= flux[i];
+    if (target < 0.0) break;
   }
-  return best;
+  return draw;
 }
 
 Clustering cluster_points(std::span<const ClusterPoint> points, int k, const ClusterMetric& metric,

@@ -32,9 +32,16 @@ std::vector<glm::vec2> hammersley_set(uint32_t n, glm::vec2 rotation);
 // concentric map (area-preserving, so uniform; PBRT's disk sampling, [9] of the paper).
 std::vector<glm::vec2> disk_set(uint32_t n, glm::vec2 rotation);
 
-// The light whose estimated flux into the scene's bounding sphere (centre, radius) is the largest: it alone
-// gets a reflective shadow map. -1 when no light emits into the scene.
-int choose_main_light(std::span<const BounceLight> lights, glm::vec3 centre, float radius);
+// The paper bounces one main light, from one reflective shadow map. Every light bounces here, one per sample:
+// the sample's light is drawn by `u` in [0, 1) with probability proportional to its estimated flux into the
+// scene's bounding sphere (centre, radius), and its bounce is weighted by 1 / probability, so that over samples
+// each light bounces with its own weight (a sun with sky and emitters, the furnace's emissive triangles) at the
+// cost of one RSM per sample. index -1 when no light emits into the scene.
+struct LightDraw {
+  int index = -1;
+  float probability = 0.0f;
+};
+LightDraw draw_bouncing_light(std::span<const BounceLight> lights, glm::vec3 centre, float radius, float u);
 float estimated_flux_into_sphere(const BounceLight& light, glm::vec3 centre, float radius);
 
 struct ClusterPoint {

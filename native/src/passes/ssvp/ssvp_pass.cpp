@@ -160,9 +160,14 @@ void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers
   const float scene_radius = 0.5f * glm::length(hi - lo);
   if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
   const auto& lights = context.lights;
-  main_light_ = ssvp::choose_main_light(lights, 0.5f * (lo + hi), scene_radius);
+  // Sample 0 draws with no rotation, as it keeps one Hammersley set: a still scene gives the same frame again.
+  const float rotation = context.sample == 0 ? 0.0f : hash_to_unit(hash_combine(context.seed, 0x5355u));
+  const ssvp::LightDraw draw = ssvp::draw_bouncing_light(lights, 0.5f * (lo + hi), scene_radius,
+                                                         r2_point(context.sample, glm::vec2(rotation)).x);
+  main_light_ = draw.index;
   if (main_light_ < 0) return;
-  const BounceLight& light = lights[static_cast<std::size_t>(main_light_)];
+  BounceLight light = lights[static_cast<std::size_t>(main_light_)];
+  for (float& c : light.intensity) c /= draw.probability;
   const BounceSettings& s = context.settings;
 
   SsvpParams& p = params_;

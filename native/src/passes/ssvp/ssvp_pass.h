@@ -1,6 +1,6 @@
-// Screen-Space VPL Propagation (Aranha et al. 2020): one or two diffuse bounces of the main light.
-// Shaders: shaders/ssvp/. Per sample (Fig. 1):
-//   rsm          - the main light's reflective shadow map (Sec. II-A, Dachsbacher and Stamminger 2005): the
+// Screen-Space VPL Propagation (Aranha et al. 2020): one or two diffuse bounces of every light.
+// Shaders: shaders/ssvp/. Per sample (Fig. 1), for one light drawn by its flux (ssvp::draw_bouncing_light):
+//   rsm          - the light's reflective shadow map (Sec. II-A, Dachsbacher and Stamminger 2005): the
 //                  G-buffer program drawn from the light's views (passes/light_views.h, as its shadow map). Sun:
 //                  orthographic over the scene's bounding sphere; spot up to 75 degrees: one perspective face over
 //                  its cone; point, area and wider spots: the six faces of a cube around the light's centre, in a
@@ -68,7 +68,7 @@ class SsvpPass {
   GLuint debug() const { return debug_.id(); }  // RGBA16F
   uint32_t vpl_count() const { return first_count_ + second_count_; }
   uint32_t cluster_count() const { return static_cast<uint32_t>(clusters_.size()); }
-  int main_light() const { return main_light_; }
+  int main_light() const { return main_light_; }  // index in the sample's lights of the one that bounced
 
  private:
   struct Rsm {

@@ -52,8 +52,9 @@ def parse_args(argv):
     parser.add_argument("--set", action="append", default=[], metavar="NAME=V[,V...]",
                         help="a scene.bounce setting; several values sweep it (repeatable; sweeps multiply)")
     parser.add_argument("--scenes", help="comma-separated scene names instead of the suite's: cornell, sponza, two-rooms, "
-                        "two-rooms-wall, sunlit-interior, grid, grid-100k, dragons-N; NAME:CAMERA renders NAME "
-                        "through its camera object CAMERA (e.g. two-rooms-wall:CameraA)")
+                        "two-rooms-wall, sunlit-interior, cornell-emissive, sponza-hdri, sunlit-interior-sky, grid, "
+                        "grid-100k, dragons-N; NAME:CAMERA renders NAME through its camera object CAMERA (e.g. "
+                        "two-rooms-wall:CameraA)")
     parser.add_argument("--resolution", help="WxH for every scene instead of the suite's")
     parser.add_argument("--repeats", type=int, help="renders per configuration (timings are medians)")
     parser.add_argument("--copies", help="triangles suite: dragon copies, e.g. 1,2,5,10 (100k triangles each)")

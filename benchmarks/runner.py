@@ -22,9 +22,14 @@ RENDER_SCRIPT = HERE / "blender_render.py"
 DRAGON_SCRIPT = HERE / "dragon_scene.py"
 TWO_ROOMS_SCRIPT = HERE / "two_rooms_scene.py"
 SUNLIT_INTERIOR_SCRIPT = HERE / "sunlit_interior_scene.py"
+RELIT_SCRIPT = HERE / "relit_scene.py"
 # The scenes built by this folder's scripts: name -> (script, its arguments).
 LOCAL_SCENES = {"two-rooms": (TWO_ROOMS_SCRIPT, []), "two-rooms-wall": (TWO_ROOMS_SCRIPT, ["--wall"]),
                 "sunlit-interior": (SUNLIT_INTERIOR_SCRIPT, [])}
+# Scenes relit from another (relit_scene.py): name -> (the scene it starts from, relit_scene.py's arguments).
+RELIT_SCENES = {"cornell-emissive": ("cornell", ["--lighting", "emissive-panel"]),
+                "sponza-hdri": ("sponza", ["--lighting", "hdri", "--hdri", "courtyard.exr"]),
+                "sunlit-interior-sky": ("sunlit-interior", ["--lighting", "sky", "--hdri", "sunrise.exr"])}
 # Seeds differ so a reference's noise is independent of the Cycles renders measured against it.
 REFERENCE_SEED = 7919
 CYCLES_SEED = 0
@@ -79,8 +84,8 @@ def _build(name, script, args, cache):
 
 
 def standard_scene(name, cache):
-    """cornell, sponza (from ../shared/scenes/setups), two-rooms, two-rooms-wall, sunlit-interior (LOCAL_SCENES)
-    or grid (the factory scene plus 1M triangles). 'NAME:CAMERA' (e.g. two-rooms-wall:CameraA) is scene NAME seen
+    """cornell, sponza (from ../shared/scenes/setups), two-rooms, two-rooms-wall, sunlit-interior (LOCAL_SCENES),
+    cornell-emissive, sponza-hdri, sunlit-interior-sky (RELIT_SCENES) or grid (the factory scene plus 1M triangles). 'NAME:CAMERA' (e.g. two-rooms-wall:CameraA) is scene NAME seen
     through its camera object CAMERA; its references are cached apart."""
     if name == "grid":
         return Scene("grid-1M", extra_triangles=1_000_000)
@@ -88,6 +93,12 @@ def standard_scene(name, cache):
         count = int(float(name[5:].lower().replace("k", "e3").replace("m", "e6")))
         return Scene(name, extra_triangles=count)
     base, _, camera = name.partition(":")
+    if base in RELIT_SCENES:
+        source, lighting = RELIT_SCENES[base]
+        original = standard_scene(source, cache)
+        blend, key = _build(base, RELIT_SCRIPT, ["--base", original.blend, "--base-key", original.key, *lighting],
+                            cache)
+        return Scene(name, blend, f"{key}-{camera}" if camera else key, camera=camera or None)
     script, args = LOCAL_SCENES.get(base, (SETUPS / f"{base}.py", []))
     if not script.exists():
         sys.exit(f"scripts/benchmark: no scene '{base}' ({script} not found)")

@@ -2,6 +2,7 @@
 // material, and an Embree BVH over them. Built from the GpuScene's CPU-side data on the render thread.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -49,6 +50,8 @@ class CpuScene {
   glm::vec3 bounds_min() const { return bvh_->bounds_min(); }
   glm::vec3 bounds_max() const { return bvh_->bounds_max(); }
   float radius() const;  // half the bounding box diagonal; 0 when empty
+  // How far off a surface a ray leaving it starts: 2e-4 of the scene's radius, above float32's steps there.
+  float ray_offset() const { return 2e-4f * std::max(radius(), 1e-30f); }
 
   // The surface at a hit of a ray with direction `dir`.
   Surface surface(const embree::Hit& hit, glm::vec3 dir) const;

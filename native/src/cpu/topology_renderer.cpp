@@ -271,7 +271,7 @@ void draw_topology_pass(const topology::Topology& topo, const BounceSettings& se
 uint32_t TopologyRenderer::vpl_cluster(const Vpl& vpl) const {
   // A VPL's cluster must be reachable from it: one inside a block thinner than the lookup's steps (a light
   // inside a wall) would otherwise reach through to the room beyond.
-  const float offset = 2e-4f * scene_.radius();
+  const float offset = scene_.ray_offset();
   const auto reachable = [&](glm::vec3 from, glm::vec3 to) {
     return scene_.clear_between(from + vpl.normal * offset, to);
   };
@@ -296,7 +296,7 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
   // the rule loses (through blinds) only through the defensive share, and lost 18 % of a sunlit room's.
   const topology::Topology& topo = *topologies_.latest();
   const float clamp = settings.topology_distance_clamp * scene_.radius();
-  const float offset = 2e-4f * std::max(scene_.radius(), 1e-30f);
+  const float offset = scene_.ray_offset();
   std::vector<float> importance(candidates.size(), 0.0f);
   std::vector<uint8_t> lit_by_ray(candidates.size(), 0);
   parallel_for(candidates.size(), 0, 64, [&](std::size_t i) {
@@ -358,7 +358,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   const glm::dmat4 world_to_view = glm::dmat4(glm::make_mat4(camera.world_to_view));
   const glm::dmat4 clip_to_world = glm::inverse(glm::dmat4(glm::make_mat4(camera.projection)) * world_to_view);
   const float radius = scene_.radius();
-  const float offset = 2e-4f * std::max(radius, 1e-30f);
+  const float offset = scene_.ray_offset();
   const float clamp = settings.topology_distance_clamp * radius;
   const ShadowRays direct_rays{scene_.bvh(), offset, 1, scene_.opaque(), settings.shadow_softness};
   const BounceWorld& world = scene.world();

@@ -44,8 +44,9 @@ struct Emission {
   glm::vec3 origin, direction, power;  // power: the light's, weighted for this direction's density
 };
 
-// One emitted ray whose power, averaged over (u1..u4), is the light's power.
-Emission emit(const BounceLight& light, glm::vec3 centre, float scene_radius, float u1, float u2, float u3, float u4) {
+// One emitted ray whose power, averaged over (u1..u4), is the light's power; `offset` as CpuScene::ray_offset.
+Emission emit(const BounceLight& light, glm::vec3 centre, float scene_radius, float offset, float u1, float u2,
+              float u3, float u4) {
   const glm::vec3 power = light_power(light, scene_radius);
   const glm::vec3 x = glm::make_vec3(light.axis_x), y = glm::make_vec3(light.axis_y), z = glm::make_vec3(light.axis_z);
   switch (light.type) {
@@ -64,11 +65,14 @@ Emission emit(const BounceLight& light, glm::vec3 centre, float scene_radius, fl
       return {origin, -z, power};
     }
     case BOUNCE_LIGHT_AREA_TRIANGLE: {  // uniform over the triangle and its two sides, cosine-weighted
+      // The triangle is a surface of the scene too: the ray leaves from just off the side it emits from, or it
+      // would hit its own (black) emitter first.
       const auto corners = triangle_light_corners(light);
       const bool back = u1 >= 0.5f;
       const float side_u1 = back ? 2.0f * u1 - 1.0f : 2.0f * u1;
-      return {uniform_triangle_point(corners[0], corners[1], corners[2], {u3, u4}),
-              cosine_direction(back ? -z : z, side_u1, u2), power};
+      const glm::vec3 side = back ? -z : z;
+      return {uniform_triangle_point(corners[0], corners[1], corners[2], {u3, u4}) + side * offset,
+              cosine_direction(side, side_u1, u2), power};
     }
     default: {  // uniform over the emitter, cosine-weighted around -axis_z
       const glm::vec2 q = light.type == BOUNCE_LIGHT_AREA_ELLIPSE ? concentric_disk({u3, u4})
@@ -116,13 +120,13 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
     ++paths_of[light_of[std::size_t(i)]];
   }
   const glm::vec3 centre = 0.5f * (scene.bounds_min() + scene.bounds_max());
-  const float offset = 2e-4f * radius;
+  const float offset = scene.ray_offset();
   std::vector<std::vector<Vpl>> per_path(static_cast<std::size_t>(paths));
   parallel_for(std::size_t(paths), 0, 16, [&](std::size_t i) {
     Rng rng(options.seed, kVplPaths, i);
     const BounceLight& light = lights[light_of[i]];
     const float u1 = rng.next(), u2 = rng.next(), u3 = rng.next(), u4 = rng.next();
-    Emission ray = emit(light, centre, radius, u1, u2, u3, u4);
+    Emission ray = emit(light, centre, radius, offset, u1, u2, u3, u4);
     glm::vec3 power = ray.power / float(paths_of[light_of[i]]);
     for (int bounce = 1; bounce <= bounces; ++bounce) {
       if (!(weight(power) > 0.0f) || !std::isfinite(weight(power))) break;

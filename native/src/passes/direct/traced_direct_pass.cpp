@@ -35,8 +35,7 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
   const auto& lights = context.lights;
   // Shadow rays leave from the surface pushed along the shading normal (on the geometric normal's side, so off
   // the surface); the light itself is evaluated at the surface point, as the rasterizer does.
-  const cpu::ShadowRays rays{scene.bvh(), 2e-4f * std::max(scene.radius(), 1e-30f), 1, scene.opaque(),
-                             context.settings.shadow_softness};
+  const cpu::ShadowRays rays{scene.bvh(), scene.ray_offset(), 1, scene.opaque(), context.settings.shadow_softness};
   if (!lights.empty() && scene.triangle_count() > 0) {
     parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
       for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {

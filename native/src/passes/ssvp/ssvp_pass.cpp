@@ -77,7 +77,7 @@ std::vector<Probe> read_probes(const GBuffer& camera, uint32_t seed) {
 // that no probe sees is lost; the probes move every sample.
 std::vector<GpuVpl> draw_by_importance(std::span<const GpuVpl> candidates, int wanted, std::span<const Probe> probes,
                                        const cpu::CpuScene& scene, float clamp, float u) {
-  const float offset = 2e-4f * std::max(scene.radius(), 1e-30f);
+  const float offset = scene.ray_offset();
   std::vector<float> importance(candidates.size(), 0.0f);
   parallel_for(candidates.size(), 0, 16, [&](std::size_t i) {
     const cpu::Vpl vpl{glm::vec3(candidates[i].position_cluster), glm::vec3(candidates[i].normal),
@@ -109,7 +109,7 @@ std::vector<GpuVpl> draw_by_importance(std::span<const GpuVpl> candidates, int w
 void keep_eyes_in_sight(std::span<const ssvp::ClusterPoint> points, std::span<const ssvp::Cluster> clusters,
                         std::span<const glm::vec3> eyes, const ssvp::ClusterMetric& metric, const cpu::CpuScene& scene,
                         std::vector<uint32_t>& assignment) {
-  const float offset = 2e-4f * std::max(scene.radius(), 1e-30f);
+  const float offset = scene.ray_offset();
   const auto sees = [&](std::size_t i, std::size_t c) {
     return scene.clear_between(points[i].position + points[i].normal * offset, eyes[c]);
   };

@@ -48,12 +48,12 @@ glm::vec3 triangle_mean(const TextureData& texture, glm::vec2 uv0, glm::vec2 uv1
 }  // namespace
 
 glm::vec2 equirect_uv(glm::vec3 e) {
-  return {std::atan2(e.y, -e.x) / (2.0f * kPi) + 0.5f, std::atan2(e.z, std::hypot(e.x, e.y)) / kPi + 0.5f};
+  return {0.5f - std::atan2(e.y, e.x) / (2.0f * kPi), std::atan2(e.z, std::hypot(e.x, e.y)) / kPi + 0.5f};
 }
 
 glm::vec3 equirect_direction(glm::vec2 uv) {
-  const float phi = (uv.x - 0.5f) * 2.0f * kPi, elevation = (uv.y - 0.5f) * kPi;
-  return {-std::cos(phi) * std::cos(elevation), std::sin(phi) * std::cos(elevation), std::sin(elevation)};
+  const float phi = (0.5f - uv.x) * 2.0f * kPi, elevation = (uv.y - 0.5f) * kPi;
+  return {std::cos(phi) * std::cos(elevation), std::sin(phi) * std::cos(elevation), std::sin(elevation)};
 }
 
 WorldRadiance::WorldRadiance(const BounceWorld& world, const TextureData* environment)

@@ -21,7 +21,8 @@
 
 namespace bounce {
 
-// Blender's equirectangular mapping of a unit direction e (z up) to uv in [0,1]^2, and its inverse.
+// Blender's equirectangular mapping of a unit direction e (z up) to uv in [0,1]^2, and its inverse: Cycles'
+// direction_to_equirectangular, u = 0.5 - atan2(e.y, e.x) / 2 pi (+x at the image's centre, +y at a quarter).
 glm::vec2 equirect_uv(glm::vec3 e);
 glm::vec3 equirect_direction(glm::vec2 uv);
 

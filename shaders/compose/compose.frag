@@ -39,7 +39,7 @@ vec3 world_radiance() {
   vec4 near = u_clip_to_world * vec4(ndc, -1.0, 1.0);
   vec4 far = u_clip_to_world * vec4(ndc, 1.0, 1.0);
   vec3 e = normalize(u_world_to_environment * (far.xyz / far.w - near.xyz / near.w));
-  vec2 uv = vec2(atan(e.y, -e.x) / (2.0 * PI) + 0.5, atan(e.z, length(e.xy)) / PI + 0.5);
+  vec2 uv = vec2(0.5 - atan(e.y, e.x) / (2.0 * PI), atan(e.z, length(e.xy)) / PI + 0.5);
   return u_background * textureLod(environment, uv, 0.0).rgb;  // level 0: the seam at u = 0 has no derivative
 }
 

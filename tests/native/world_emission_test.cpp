@@ -4,6 +4,7 @@
 #include <functional>
 
 #include "render_fixture.h"
+#include "scene_lights.h"
 
 namespace bounce::test {
 namespace {
@@ -393,6 +394,55 @@ TEST_F(WorldAndEmission, RaysLeavingAnEmitterDoNotHitIt) {
   const double topology = mean_rgb(render(BOUNCE_AOV_INDIRECT)).x;
   EXPECT_GT(ssvp, 0.1);
   EXPECT_NEAR(topology / ssvp, 1.0, 0.05) << "SSVP " << ssvp << ", Topology " << topology;
+}
+
+}  // namespace
+}  // namespace bounce::test
+
+namespace bounce::test {
+namespace {
+
+// Cycles' direction_to_equirectangular: u = 0.5 - atan2(y, x) / 2 pi, so +x is the image's centre and +y a
+// quarter of the way across. (The first version had u shifted by a half: every HDRI lit the scene turned by 180
+// degrees, which a plane's irradiance cannot see, but Sponza under courtyard.exr got 0.07 of Cycles' light.)
+TEST(WorldMapping, MatchesCyclesEquirectangular) {
+  EXPECT_NEAR(equirect_uv({1, 0, 0}).x, 0.5f, 1e-6f);
+  EXPECT_NEAR(equirect_uv({0, 1, 0}).x, 0.25f, 1e-6f);
+  EXPECT_NEAR(equirect_uv({0, -1, 0}).x, 0.75f, 1e-6f);
+  EXPECT_NEAR(equirect_uv({0, 0, 1}).y, 1.0f, 1e-6f);
+  EXPECT_NEAR(equirect_uv({1, 0, 0}).y, 0.5f, 1e-6f);
+  for (const glm::vec3 d :
+       {glm::vec3(0.3f, -0.5f, 0.81f), glm::vec3(-0.9f, 0.1f, -0.42f), glm::vec3(-0.2f, -0.7f, 0.1f)})
+    EXPECT_LT(glm::length(equirect_direction(equirect_uv(glm::normalize(d))) - glm::normalize(d)), 1e-5f);
+}
+
+TEST_F(WorldAndEmission, EnvironmentFacesTheWayCyclesTurnsIt) {
+  // Three columns: red around +y (u < 1/3), green around +x, blue around -y.
+  const float texels[12] = {1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 1};
+  ASSERT_BOUNCE_OK(bounce_texture_set(engine_, 7, 3, 1, BOUNCE_TEXTURE_RGBA32F, texels));
+  // A wall facing +x: lit mostly by the green third of the sky, as much by red as by blue.
+  add_soup(1, {{0, -1, -1}, {0, 1, -1}, {0, 1, 1}, {0, -1, -1}, {0, 1, 1}, {0, -1, 1}});
+  set_materials(0.0f);
+  set_instances_with({{1, 0}});
+  set_world(glm::vec3(1.0f), 7);
+  settings_.samples = 64;
+  for (int method : kMethods) {
+    settings_.method = method;
+    const glm::mat4 from_x = glm::lookAt(glm::vec3(5, 0, 0), glm::vec3(0), glm::vec3(0, 0, 1));
+    set_camera(from_x, glm::ortho(-0.5f, 0.5f, -0.5f, 0.5f, 1.0f, 10.0f), 8, 8);
+    const glm::dvec3 wall = mean_rgb(render(BOUNCE_AOV_DIRECT));
+    EXPECT_GT(wall.g, 2.0 * wall.r) << "method " << method;
+    EXPECT_NEAR(wall.r / wall.b, 1.0, 0.1) << "method " << method;
+    // The camera's background: green looking towards +x, red towards +y.
+    for (auto [target, channel] : {std::pair{glm::vec3(1, 0, 0.2f), 1}, {glm::vec3(0, 1, 0.2f), 0}}) {
+      set_camera(glm::lookAt(glm::vec3(0, 0, 3), glm::vec3(0, 0, 3) + target, glm::vec3(0, 0, 1)),
+                 glm::perspective(glm::radians(10.0f), 1.0f, 0.1f, 10.0f), 4, 4);
+      const float* sky = render(BOUNCE_AOV_COMBINED).at(2, 2);
+      // Bilinear over 3 texels: +x is the green texel's centre, +y three quarters red.
+      EXPECT_GT(sky[channel], 0.7f) << "method " << method << ", looking along " << target.x << ", " << target.y;
+      EXPECT_GT(sky[channel], 2.5f * (sky[0] + sky[1] + sky[2] - sky[channel])) << "method " << method;
+    }
+  }
 }
 
 }  // namespace

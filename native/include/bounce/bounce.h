@@ -204,7 +204,7 @@ BOUNCE_API BounceStatus bounce_lights_set(BounceEngine* engine, uint32_t count, 
 
 /* The world: radiance arriving from every direction, seen where no surface is hit and lighting the scene (see
  * BounceSettings.world_lights). Radiance toward direction d is background times, with an environment, the
- * texture at the equirectangular coordinates (Blender's: u = atan2(e.y, -e.x) / 2 pi + 0.5, v = atan2(e.z,
+ * texture at the equirectangular coordinates (Blender's: u = 0.5 - atan2(e.y, e.x) / 2 pi, v = atan2(e.z,
  * hypot(e.x, e.y)) / pi + 0.5) of e = world_to_environment * d. */
 typedef struct BounceWorld {
   float background[3];           /* radiance, or the environment's factor (colour * strength) */

@@ -66,9 +66,9 @@ def hdri_sky(scene):
     radiance = pixels.reshape(height, width, 4)[:, :, :3].astype(np.float64) * HDRI_STRENGTH
     u = (np.arange(width) + 0.5) / width
     v = (np.arange(height) + 0.5) / height
-    phi = (u[None, :] - 0.5) * 2.0 * math.pi
+    phi = (0.5 - u[None, :]) * 2.0 * math.pi  # Cycles' equirectangular mapping: u = 0.5 - atan2(y, x) / 2 pi
     elevation = (v[:, None] - 0.5) * math.pi
-    e = np.stack([-np.cos(phi) * np.cos(elevation), np.sin(phi) * np.cos(elevation),
+    e = np.stack([np.cos(phi) * np.cos(elevation), np.sin(phi) * np.cos(elevation),
                   np.sin(elevation) * np.ones_like(phi)], axis=-1)
     rotation = np.array(Euler([math.radians(a) for a in HDRI_ROTATION_DEG], "XYZ").to_matrix())
     d = e @ rotation  # R^T e per row: the world direction

@@ -437,7 +437,8 @@ TEST_F(WorldAndEmission, EnvironmentFacesTheWayCyclesTurnsIt) {
     for (auto [target, channel] : {std::pair{glm::vec3(1, 0, 0.2f), 1}, {glm::vec3(0, 1, 0.2f), 0}}) {
       set_camera(glm::lookAt(glm::vec3(0, 0, 3), glm::vec3(0, 0, 3) + target, glm::vec3(0, 0, 1)),
                  glm::perspective(glm::radians(10.0f), 1.0f, 0.1f, 10.0f), 4, 4);
-      const float* sky = render(BOUNCE_AOV_COMBINED).at(2, 2);
+      const Image image = render(BOUNCE_AOV_COMBINED);
+      const float* sky = image.at(2, 2);
       // Bilinear over 3 texels: +x is the green texel's centre, +y three quarters red.
       EXPECT_GT(sky[channel], 0.7f) << "method " << method << ", looking along " << target.x << ", " << target.y;
       EXPECT_GT(sky[channel], 2.5f * (sky[0] + sky[1] + sky[2] - sky[channel])) << "method " << method;

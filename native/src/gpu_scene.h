@@ -24,6 +24,7 @@ constexpr GLuint kInstances = 1;
 constexpr GLuint kInstanceLists = 2;
 constexpr GLuint kMaterials = 3;
 constexpr GLuint kLightBlock = 4;
+constexpr GLuint kEmitterOccluders = 12;  // SSBO: this sample's SceneLights::emitter_occluders (renderer.cpp)
 constexpr GLuint kBaseColorUnit = 0;
 constexpr GLuint kEmissionUnit = 16;
 }  // namespace binding

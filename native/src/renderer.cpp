@@ -31,6 +31,20 @@ glm::mat4 tile_matrix(int image_width, int image_height, int x0, int y0, int wid
 
 Renderer::Renderer() : settings_buffer_(gl::make_buffer(sizeof(BounceSettings), nullptr)) {}
 
+void Renderer::bind_emitter_occluders(const std::vector<EmitterOccluder>& occluders) {
+  static_assert(sizeof(EmitterOccluder) == 3 * sizeof(glm::vec4));
+  const glm::uvec4 count(static_cast<uint32_t>(occluders.size()), 0u, 0u, 0u);
+  const std::size_t bytes = sizeof count + occluders.size() * sizeof(EmitterOccluder);
+  if (!emitter_occluders_ || emitter_occluders_bytes_ < bytes) {
+    emitter_occluders_ = gl::make_buffer(bytes, nullptr);
+    emitter_occluders_bytes_ = bytes;
+  }
+  glNamedBufferSubData(emitter_occluders_.id(), 0, sizeof count, &count);
+  if (!occluders.empty())
+    glNamedBufferSubData(emitter_occluders_.id(), sizeof count, GLsizeiptr(bytes - sizeof count), occluders.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kEmitterOccluders, emitter_occluders_.id());
+}
+
 bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks) {
   scene_.prepare();
   const FramePlan plan = plan_frame(settings);
@@ -125,6 +139,7 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
     const std::vector<BounceLight>& lights = scene_lights_.sample(scene_, settings, static_cast<uint32_t>(s), seed);
+    bind_emitter_occluders(scene_lights_.emitter_occluders());
     if (flc) {
       if (callbacks.cancelled()) return false;
       const RenderContext frame_context =

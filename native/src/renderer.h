@@ -44,11 +44,16 @@ class Renderer {
   bool render(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks);
 
  private:
+  // Uploads and binds shaders/common/emitter_occluders.glsl's buffer: a count, then the occluders.
+  void bind_emitter_occluders(const std::vector<EmitterOccluder>& occluders);
+
   GpuScene scene_;
   SceneLights scene_lights_;
   cpu::CpuScene cpu_scene_;  // Embree's copy of the scene: ray-traced direct light and the Topology method
   StageTimer timer_;
   gl::Buffer settings_buffer_;  // the `Settings` uniform block of every shader
+  gl::Buffer emitter_occluders_;
+  std::size_t emitter_occluders_bytes_ = 0;
   GBufferPass gbuffer_;
   ShadowPass shadows_;
   DirectPass direct_;

@@ -176,11 +176,18 @@ void SceneLights::add_world(const BounceSettings& settings, uint32_t sample, uin
 }
 
 void SceneLights::add_emitters(const BounceSettings& settings, uint32_t sample, uint32_t seed) {
+  occluders_.clear();
   const std::size_t count = std::size_t(std::max(settings.emission_lights, 0));
   const double total = emitter_cdf_.back();
   if (count == 0 || emitters_.empty() || !(total > 0.0) || !std::isfinite(total)) return;
+  const auto add_occluder = [&](const Emitter& e) {
+    occluders_.push_back({glm::vec4(e.a, 0.0f), glm::vec4(e.b, 0.0f), glm::vec4(e.c, 0.0f)});
+  };
   if (emitters_.size() <= count) {
-    for (const Emitter& e : emitters_) lights_.push_back(make_triangle_light(e.a, e.b, e.c, e.radiance));
+    for (const Emitter& e : emitters_) {
+      lights_.push_back(make_triangle_light(e.a, e.b, e.c, e.radiance));
+      add_occluder(e);
+    }
     return;
   }
   // Systematic sampling by power: K evenly spaced targets, one random offset per sample. A triangle drawn n times
@@ -197,6 +204,7 @@ void SceneLights::add_emitters(const BounceSettings& settings, uint32_t sample, 
       continue;
     }
     lights_.push_back(make_triangle_light(e.a, e.b, e.c, radiance));
+    add_occluder(e);
     previous = t;
   }
 }

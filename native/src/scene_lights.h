@@ -40,6 +40,12 @@ class WorldRadiance {
   glm::mat3 world_to_environment_;
 };
 
+// An emissive triangle drawn this sample, as the scene geometry it is: VPL light sent towards it stops there
+// (shaders/common/emitter_occluders.glsl). Its corners (w unused), in the GPU's std430 layout.
+struct EmitterOccluder {
+  glm::vec4 a, b, c;
+};
+
 class SceneLights {
  public:
   // The lights of sample `sample` of a render with `seed`: the caller's lamps first (same indices), then the
@@ -48,6 +54,8 @@ class SceneLights {
                                          uint32_t seed);
   // How many lights of the list are the caller's lamps.
   std::size_t lamp_count() const { return lamp_count_; }
+  // The emissive triangles among this sample's lights, as occluders.
+  const std::vector<EmitterOccluder>& emitter_occluders() const { return occluders_; }
 
  private:
   struct Emitter {
@@ -70,6 +78,7 @@ class SceneLights {
   std::vector<double> world_row_cdf_;  // the rows' marginal: world_cdf_ at each row's start, and the total
   glm::mat3 environment_to_world_{1.0f};
   std::vector<BounceLight> lights_;
+  std::vector<EmitterOccluder> occluders_;
   std::size_t lamp_count_ = 0;
 };
 

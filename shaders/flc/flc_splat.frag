@@ -1,6 +1,7 @@
 // Splatting, fragment stage: the VPL's contribution H(t_i, x, n_x) F^k(t_i, x) to the receiver of this pixel
 // (Eq. 5, 6, 10, 14, 16), added into the interleaved indirect target; with Indirect Shadows, only where the
-// topology's clusters and gates let the VPL reach the pixel.
+// topology's clusters and gates let the VPL reach the pixel; never across an emitter (emitter_occluders.glsl).
+#include "common/emitter_occluders.glsl"
 #include "flc/flc_common.glsl"
 #include "topology_visibility/visibility.glsl"
 
@@ -41,6 +42,7 @@ void main() {
   if (albedo.a == 0.0) discard;
   float cos_receiver = -dot(texelFetch(g_normal, pixel, 0).xyz, direction);
   if (cos_receiver <= 0.0) discard;
+  if (emitter_between(s_vpl_position, x, 1e-4 * flc.scene_radius)) discard;
   if (flc.visibility != 0 &&
       !topology_reaches(s_cluster, s_vpl_position, texelFetch(pixel_clusters, pixel, 0).r, x))
     discard;

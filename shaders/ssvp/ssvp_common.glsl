@@ -1,5 +1,6 @@
 // Screen-Space VPL Propagation: parameters, VPL and cluster buffers, and clustered visibility.
 // Mirror of the parameter block: native/src/passes/ssvp/ssvp_pass.h, SsvpParams.
+#include "common/emitter_occluders.glsl"
 #include "ssvp/ssvp_shared.glsl"
 
 const float SSVP_PI = 3.14159265358979;
@@ -42,7 +43,7 @@ ivec2 paraboloid_texel(vec2 disk_point) {
   return clamp(ivec2((disk_point * 0.5 + 0.5) * float(ssvp.paraboloid_size)), ivec2(0), ivec2(ssvp.paraboloid_size - 1));
 }
 
-// Irradiance a VPL gives the receiver x (normal n), unshadowed: flux / pi G, G = max(n_p . l, 0) max(n . -l, 0) /
+// Irradiance a VPL gives the receiver x (normal n), unshadowed but for emitters in between: flux / pi G, G = max(n_p . l, 0) max(n . -l, 0) /
 // max(d^2, eps^2). G is capped at pi / A, A the area of the surface the VPL stands for: then a VPL never gives
 // more irradiance than that surface's exitance flux / A, which a point light next to a receiver would exceed
 // without bound. The cap loosens as VPLs grow more numerous (A shrinks), so the result still converges to the
@@ -54,5 +55,6 @@ vec3 vpl_irradiance(Vpl vpl, vec3 x, vec3 n) {
   vec3 l = to_vpl * inversesqrt(max(d2, 1e-30));
   float g = max(dot(n, l), 0.0) * max(dot(vpl.normal.xyz, -l), 0.0) / max(d2, ssvp.epsilon * ssvp.epsilon);
   g = min(g, SSVP_PI / max(vpl.normal.w, 1e-30));
+  if (g > 0.0 && emitter_between(vpl.position_cluster.xyz, x, 5e-5 * ssvp.length_scale)) return vec3(0.0);
   return vpl.flux.rgb * (g / SSVP_PI);
 }

@@ -10,6 +10,16 @@
 
 namespace bounce {
 
+namespace shared_glsl {
+using glm::atan;
+using glm::length;
+using glm::vec2;
+using glm::vec3;
+#define EQUIRECT_INLINE inline
+#include "common/equirect_shared.glsl"
+#undef EQUIRECT_INLINE
+}  // namespace shared_glsl
+
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
@@ -47,9 +57,7 @@ glm::vec3 triangle_mean(const TextureData& texture, glm::vec2 uv0, glm::vec2 uv1
 
 }  // namespace
 
-glm::vec2 equirect_uv(glm::vec3 e) {
-  return {0.5f - std::atan2(e.y, e.x) / (2.0f * kPi), std::atan2(e.z, std::hypot(e.x, e.y)) / kPi + 0.5f};
-}
+glm::vec2 equirect_uv(glm::vec3 e) { return shared_glsl::equirect_uv(e); }
 
 glm::vec3 equirect_direction(glm::vec2 uv) {
   const float phi = (0.5f - uv.x) * 2.0f * kPi, elevation = (uv.y - 0.5f) * kPi;

@@ -1,6 +1,8 @@
 // One sample's AOVs (Combined = direct + indirect + emission), added into the accumulation targets (depth: kept
 // at its minimum by a MIN blend). Indirect light arrives reflected (FLC) or as irradiance / pi, to be
 // multiplied by the albedo here (SSVP, which blurs before the albedo so textures stay sharp).
+#include "common/equirect_shared.glsl"
+
 layout(binding = 1) uniform sampler2D g_albedo;
 layout(binding = 2) uniform sampler2D g_normal;
 layout(binding = 3) uniform sampler2D g_position;
@@ -30,7 +32,6 @@ layout(location = 6) out vec4 out_indirect;
 layout(location = 7) out vec4 out_vpls;
 
 const float BACKGROUND_DEPTH = 1e10;  // Blender's Depth pass value where nothing is hit
-const float PI = 3.14159265358979;
 
 // The world's radiance toward the view ray of this pixel (bounce.h, BounceWorld; native/src/scene_lights.cpp).
 vec3 world_radiance() {
@@ -39,8 +40,8 @@ vec3 world_radiance() {
   vec4 near = u_clip_to_world * vec4(ndc, -1.0, 1.0);
   vec4 far = u_clip_to_world * vec4(ndc, 1.0, 1.0);
   vec3 e = normalize(u_world_to_environment * (far.xyz / far.w - near.xyz / near.w));
-  vec2 uv = vec2(0.5 - atan(e.y, e.x) / (2.0 * PI), atan(e.z, length(e.xy)) / PI + 0.5);
-  return u_background * textureLod(environment, uv, 0.0).rgb;  // level 0: the seam at u = 0 has no derivative
+  // Level 0: the seam at u = 0 has no derivative.
+  return u_background * textureLod(environment, equirect_uv(e), 0.0).rgb;
 }
 
 void main() {

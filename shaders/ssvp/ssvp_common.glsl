@@ -43,11 +43,12 @@ ivec2 paraboloid_texel(vec2 disk_point) {
   return clamp(ivec2((disk_point * 0.5 + 0.5) * float(ssvp.paraboloid_size)), ivec2(0), ivec2(ssvp.paraboloid_size - 1));
 }
 
-// Irradiance a VPL gives the receiver x (normal n), unshadowed but for emitters in between: flux / pi G, G = max(n_p . l, 0) max(n . -l, 0) /
-// max(d^2, eps^2). G is capped at pi / A, A the area of the surface the VPL stands for: then a VPL never gives
-// more irradiance than that surface's exitance flux / A, which a point light next to a receiver would exceed
-// without bound. The cap loosens as VPLs grow more numerous (A shrinks), so the result still converges to the
-// VPLs' limit, and it leaves the cosines' falloff alone (inside a sphere, G = 1 / 4R^2 everywhere: no cap applies).
+// Irradiance a VPL gives the receiver x (normal n), unshadowed but for emitters in between: flux / pi G,
+// G = max(n_p . l, 0) max(n . -l, 0) / max(d^2, eps^2). G is capped at pi / A, A the area of the surface the VPL
+// stands for: then a VPL never gives more irradiance than that surface's exitance flux / A, which a point light
+// next to a receiver would exceed without bound. The cap loosens as VPLs grow more numerous (A shrinks), so the
+// result still converges to the VPLs' limit, and it leaves the cosines' falloff alone (inside a sphere,
+// G = 1 / 4R^2 everywhere: no cap applies).
 vec3 vpl_irradiance(Vpl vpl, vec3 x, vec3 n) {
   if (vpl.flux.w == 0.0) return vec3(0.0);
   vec3 to_vpl = vpl.position_cluster.xyz - x;

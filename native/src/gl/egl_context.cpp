@@ -24,7 +24,11 @@ EGLDisplay surfaceless_display() {
 }
 
 EGLDisplay device_display() {
-  if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration")) return EGL_NO_DISPLAY;
+  // NVIDIA's EGL (through libglvnd) lists EGL_EXT_device_base, which includes device enumeration, and not
+  // EGL_EXT_device_enumeration itself.
+  if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration") &&
+      !epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_base"))
+    return EGL_NO_DISPLAY;
   EGLint count = 0;
   eglQueryDevicesEXT(0, nullptr, &count);
   std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
@@ -97,7 +101,10 @@ EglContext::EglContext(const std::string& requested_platform, bool debug) {
     eglDestroyContext(display_, context_);
     fail(BOUNCE_ERROR_CONTEXT, message);
   }
-  if (debug) {
+  // BOUNCE_GL_DEBUG=1 turns the driver's messages on without rebuilding a caller, to diagnose a driver.
+  const char* debug_env = std::getenv("BOUNCE_GL_DEBUG");
+  if (debug || (debug_env && *debug_env && std::string(debug_env) != "0")) {
+    glEnable(GL_DEBUG_OUTPUT);
     glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
     glDebugMessageCallback(debug_callback, nullptr);
   }

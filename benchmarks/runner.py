@@ -197,7 +197,8 @@ class CpuReferences:
     scene, cached as RGBA EXRs: RGB the indirect radiance a white receiver reflects, A whether the pixel sees
     a surface. Multiplied by a render's own Albedo pass, it is the Indirect pass that render should converge to.
     Made in two steps: a Blender job writes the scene (cpu_reference_export.py), then bounce_reference_render
-    (built with the native tests) renders it on every core."""
+    (built with the native tests) renders it on every core. The exported scene stays beside the reference
+    (`*.scene.bin`), for bounce_scene_bench on machines without Blender."""
 
     def __init__(self, folder, points, light_samples=64):
         self.folder, self.points, self.light_samples = Path(folder), points, light_samples
@@ -244,7 +245,6 @@ class CpuReferences:
             if not image.write(str(partial)):
                 sys.exit(f"scripts/benchmark: cannot write {partial}: {image.geterror()}")
             os.replace(partial, path)
-            exported.unlink()
             raw.unlink()
             log(f"CPU reference {path.name}: {time.perf_counter() - start:.1f} s")
         self.pending = []

@@ -1,21 +1,11 @@
 // bounce_reference_render SCENE.bin OUT.raw: the CPU model reference of a scene (flc_reference.h) as an image,
-// for scripts/benchmark. The scene comes from benchmarks/cpu_reference_export.py, run inside Blender, as a
-// little-endian binary file:
-//
-//   char[8]  "BNCREF1\n"
-//   int32    sizeof(BounceCamera), sizeof(BounceLight)   (checked: the writer used this bounce.h)
-//   int32    light_samples (Options)
-//   float32  epsilon_fraction (of the scene radius, as flc_epsilon), points (the target count of surface points)
-//   BounceCamera
-//   int32    light count, then that many BounceLight
-//   int64    triangle count, then per triangle 12 float32: three world-space corners, then the albedo
+// for scripts/benchmark. The scene comes from benchmarks/cpu_reference_export.py (reference/scene_file.h).
 //
 // The model is rendered in continuous mode (the limit of FLC's jittered VPLs), with the default seed and every
 // core. OUT.raw receives width * height * 4 float32, rows bottom to top: the white-receiver indirect radiance
 // (RGB, Image::incident) and coverage (A). Progress goes to stderr.
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <exception>
 #include <fstream>
 #include <stdexcept>
@@ -25,60 +15,25 @@
 #include <glm/geometric.hpp>
 
 #include "reference/flc_reference.h"
+#include "reference/scene_file.h"
 
 namespace {
 
 using bounce::reference::Triangle;
 
-class Reader {
- public:
-  explicit Reader(const char* path) : in_(path, std::ios::binary) {
-    if (!in_) throw std::runtime_error(std::string("cannot open ") + path);
-  }
-  template <typename T>
-  T read() {
-    T value;
-    bytes(&value, sizeof(T));
-    return value;
-  }
-  void bytes(void* out, std::size_t size) {
-    if (!in_.read(static_cast<char*>(out), static_cast<std::streamsize>(size)))
-      throw std::runtime_error("the scene file ends early");
-  }
-
- private:
-  std::ifstream in_;
-};
-
 int run(const char* scene_path, const char* out_path) {
-  Reader in(scene_path);
-  char magic[8];
-  in.bytes(magic, sizeof(magic));
-  if (std::memcmp(magic, "BNCREF1\n", 8) != 0) throw std::runtime_error("not a Bounce reference scene file");
-  if (in.read<int32_t>() != int32_t(sizeof(BounceCamera)) || in.read<int32_t>() != int32_t(sizeof(BounceLight)))
-    throw std::runtime_error("the scene file was written for another bounce.h");
+  bounce::reference::SceneFile file = bounce::reference::read_scene_file(scene_path);
+  const BounceCamera& camera = file.camera;
   bounce::reference::Options options;
-  options.light_samples = in.read<int32_t>();
-  const float epsilon_fraction = in.read<float>();
-  const float points = in.read<float>();
-  const auto camera = in.read<BounceCamera>();
-  std::vector<BounceLight> lights(static_cast<std::size_t>(in.read<int32_t>()));
-  in.bytes(lights.data(), lights.size() * sizeof(BounceLight));
-  std::vector<Triangle> triangles(static_cast<std::size_t>(in.read<int64_t>()));
-  for (Triangle& t : triangles) {
-    float v[12];
-    in.bytes(v, sizeof(v));
-    for (int c = 0; c < 3; ++c) t.p[c] = {v[3 * c], v[3 * c + 1], v[3 * c + 2]};
-    t.albedo = {v[9], v[10], v[11]};
-  }
+  options.light_samples = file.light_samples;
 
   const auto start = std::chrono::steady_clock::now();
-  const bounce::reference::Scene scene(std::move(triangles), std::move(lights));
+  const bounce::reference::Scene scene(std::move(file.triangles), std::move(file.lights));
   // The scene radius as the renderer takes it (FlcPass): half the bounding box diagonal.
-  options.epsilon = epsilon_fraction * 0.5f * scene.diagonal();
+  options.epsilon = file.epsilon_fraction * 0.5f * scene.diagonal();
   double area = 0.0;
   for (const Triangle& t : scene.triangles()) area += 0.5 * glm::length(glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]));
-  options.points_per_unit_area = area > 0.0 ? static_cast<float>(points / area) : 0.0f;
+  options.points_per_unit_area = area > 0.0 ? static_cast<float>(file.points / area) : 0.0f;
   std::fprintf(stderr, "bounce_reference_render: %zu triangles, %zu lights, %.0f m^2, %dx%d pixels\n",
                scene.triangles().size(), scene.lights().size(), area, camera.width, camera.height);
   const bounce::reference::Image image = render(scene, camera, bounce::reference::Mode::continuous, options);

@@ -11,10 +11,9 @@
 // that the scene needs at most 512 materials.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <exception>
-#include <fstream>
 #include <map>
 #include <stdexcept>
 #include <string>

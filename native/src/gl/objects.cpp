@@ -34,6 +34,16 @@ void upload_buffer(Buffer& buffer, std::size_t& capacity, std::size_t bytes, con
   if (bytes) glNamedBufferSubData(buffer.id(), 0, static_cast<GLsizeiptr>(bytes), data);
 }
 
+void Readback::read(GLuint source, std::size_t bytes, void* out) {
+  if (bytes == 0) return;
+  if (!staging_ || bytes > capacity_) {
+    staging_ = make_buffer(bytes, nullptr, GL_CLIENT_STORAGE_BIT);
+    capacity_ = bytes;
+  }
+  glCopyNamedBufferSubData(source, staging_.id(), 0, 0, static_cast<GLsizeiptr>(bytes));
+  glGetNamedBufferSubData(staging_.id(), 0, static_cast<GLsizeiptr>(bytes), out);
+}
+
 Texture make_texture_2d(GLenum internal_format, int width, int height, int levels) {
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_2D, 1, &id);

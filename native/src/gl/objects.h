@@ -58,6 +58,19 @@ Buffer make_buffer(std::size_t bytes, const void* data, GLbitfield flags = GL_DY
 void reserve_buffer(Buffer& buffer, std::size_t& capacity, std::size_t bytes);
 // reserve_buffer, then uploads `bytes` of `data`.
 void upload_buffer(Buffer& buffer, std::size_t& capacity, std::size_t bytes, const void* data);
+// Reads what the GPU wrote into a buffer through a staging buffer of its own. Reading the GPU's working buffer
+// itself makes NVIDIA's driver move it to host memory ("copied/moved from VIDEO memory to HOST memory"), after
+// which, on an H200 (driver 580.159), the indirect draw it fed made nothing: Forward Light Cuts' divergent
+// pipeline generated no VPL after a render's first sample.
+class Readback {
+ public:
+  void read(GLuint source, std::size_t bytes, void* out);
+
+ private:
+  Buffer staging_;
+  std::size_t capacity_ = 0;
+};
+
 Texture make_texture_2d(GLenum internal_format, int width, int height, int levels = 1);
 Texture make_texture_cube(GLenum internal_format, int size);
 Framebuffer make_framebuffer(const std::vector<GLuint>& colour, GLuint depth, int layer = -1);

@@ -117,7 +117,7 @@ void FlcPass::generate(const RenderContext& context) {
   for (int attempt = 0;; ++attempt) {
     run_pipelines(context);
     Counters counters{};
-    glGetNamedBufferSubData(counters_.id(), 0, sizeof counters, &counters);
+    counters_readback_.read(counters_.id(), sizeof counters, &counters);
     if (counters.vpl_overflow == 0 && counters.divergent_overflow == 0) {
       vpl_count_ = counters.vpl_draw[0];
       divergent_count_ = counters.divergent_draw[1];

@@ -68,6 +68,7 @@ class FlcPass {
   gl::Program regular_, divergent_, lighting_, splat_, untile_, levels_program_;
   GeometryBlur blur_;
   gl::Buffer params_buffer_, counters_, vpls_, divergents_;
+  gl::Readback counters_readback_;
   gl::Texture noise_;
   FlcParams params_{};
   float max_tess_level_ = 64.0f;  // GL_MAX_TESS_GEN_LEVEL, queried once

@@ -288,8 +288,7 @@ void SsvpPass::cluster(const RenderContext& context, const GBuffer& camera, cons
   {
     StageScope scope(context.timer, Stage::SsvpCluster);
     std::vector<GpuVpl> sampled(static_cast<std::size_t>(p.first_count));
-    glGetNamedBufferSubData(first_vpls_.id(), 0, static_cast<GLsizeiptr>(sampled.size() * sizeof(GpuVpl)),
-                            sampled.data());
+    first_vpls_readback_.read(first_vpls_.id(), sampled.size() * sizeof(GpuVpl), sampled.data());
     for (const GpuVpl& v : sampled)
       if (v.flux.w != 0.0f && v.flux.r + v.flux.g + v.flux.b > 0.0f) vpls.push_back(v);
   }

@@ -91,6 +91,7 @@ class SsvpPass {
   gl::Program sample_program_, paraboloid_program_, propagate_program_, shade_program_, debug_program_;
   GeometryBlur blur_total_, blur_second_;
   gl::Buffer params_buffer_, light_buffer_, points_, first_vpls_, clusters_buffer_, second_vpls_;
+  gl::Readback first_vpls_readback_;
   std::size_t points_capacity_ = 0, first_capacity_ = 0, clusters_capacity_ = 0, second_capacity_ = 0;
   SsvpParams params_{};
   Rsm rsm_;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <set>
 
+#include "passes/gbuffer/gbuffer_pass.h"
+#include "passes/light_views.h"
 #include "passes/ssvp/ssvp_math.h"
 #include "render_fixture.h"
 
@@ -542,6 +544,19 @@ TEST_F(Ssvp, VplImportanceFindsTheRoomASunShinesInto) {
       ssvp[0], ssvp[1], rays);
   ASSERT_GT(rays, 0.0);
   EXPECT_NEAR(ssvp[1] / rays, 1.0, 0.2);
+}
+
+// Maps seen from lights halve until they fit their memory budget (issue 18: SSVP with every costly setting at its
+// maximum peaked at 5.4 GiB, a point light's reflective shadow map at RSM Size 4096 being six G-buffer faces of
+// 4096^2, 5.2 GB). With the 1 GiB budget that RSM becomes six faces of 1024^2 (327 MB); a spot light's one face
+// keeps 4096 (872 MB); a size that fits stays; nothing goes below the floor.
+TEST(LightMapMemory, MapsHalveUntilTheyFitTheirBudget) {
+  constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+  EXPECT_EQ(size_within_budget(4096, 64, 6, kGBufferBytesPerTexel, kGiB), 1024);
+  EXPECT_EQ(size_within_budget(4096, 64, 1, kGBufferBytesPerTexel, kGiB), 4096);
+  EXPECT_EQ(size_within_budget(512, 64, 6, kGBufferBytesPerTexel, kGiB), 512);
+  EXPECT_EQ(size_within_budget(4096, 64, 1e9, 4.0, kGiB), 64);
+  EXPECT_EQ(size_within_budget(100, 64, 1e9, 4.0, 1.0), 50);  // halving stops once at or below the floor
 }
 
 }  // namespace

@@ -12,6 +12,11 @@ constexpr float kPi = 3.14159265358979f;
 constexpr float kWidestPerspectiveHalfAngle = 75.0f * kPi / 180.0f;
 }  // namespace
 
+int size_within_budget(int size, int min_size, double layers, double bytes_per_texel, double budget) {
+  while (size > min_size && layers * bytes_per_texel * double(size) * double(size) > budget) size /= 2;
+  return size;
+}
+
 glm::vec3 vec3_of(const float* v) { return {v[0], v[1], v[2]}; }
 
 glm::vec3 any_perpendicular(glm::vec3 unit) {

@@ -31,6 +31,11 @@ LightViewKind light_view_kind(const BounceLight& light);
 // the scene's bounds [lo, hi], for maps of `size` texels a side.
 LightViews light_views(const BounceLight& light, glm::vec3 origin, glm::vec3 lo, glm::vec3 hi, int size);
 
+// The first of size, size / 2, size / 4, ... at which `layers` square layers of `bytes_per_texel` fit in
+// `budget` bytes, or the first at or below min_size: how the maps seen from lights (shadow maps, SSVP's reflective
+// shadow map and paraboloid maps) stay within GPU memory at any setting.
+int size_within_budget(int size, int min_size, double layers, double bytes_per_texel, double budget);
+
 glm::vec3 vec3_of(const float* v);
 glm::vec3 any_perpendicular(glm::vec3 unit);
 

@@ -21,6 +21,8 @@ struct GBuffer {
   void bind_for_reading() const;  // texture units 1-5, as declared in the lighting shaders
 };
 
+// Bytes per texel of a GBuffer: albedo, normal, emission and geometric normal RGBA16F, position RGBA32F, depth 32F.
+constexpr int kGBufferBytesPerTexel = 4 * 8 + 16 + 4;
 GBuffer make_gbuffer(int width, int height);
 
 // One view drawn into a G-buffer: the camera's, or one face of a light's reflective shadow map.

@@ -143,9 +143,8 @@ void ShadowPass::prepare(const RenderContext& context, std::size_t index, const 
   if (maps_.size() <= index) maps_.resize(index + 1);
   ShadowMap& map = maps_[index];
   const int faces = kind == kShadowCube ? 6 : 1;
-  int size = context.settings.shadow_map_size;
   const double lights = static_cast<double>(std::max<std::size_t>(context.lights.size(), 1));
-  while (size > 64 && lights * faces * 4.0 * size * size > kShadowMemoryBudget) size /= 2;
+  const int size = size_within_budget(context.settings.shadow_map_size, 64, lights * faces, 4.0, kShadowMemoryBudget);
 
   const bool reuse = map.depth && map.kind == kind && map.size == size && map.origin == origin &&
                      map.geometry_version == context.scene.geometry_version() &&

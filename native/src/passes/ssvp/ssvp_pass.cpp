@@ -31,6 +31,9 @@ constexpr GLuint kParaboloidAlbedoUnit = 15;
 constexpr int kMinSecondPerCluster = 32;  // Sec. III-D
 constexpr float kCentreLift = 1e-3f;      // a paraboloid map's eye off its surface, per unit of scene size
 constexpr double kParaboloidMemoryBudget = 512.0 * 1024.0 * 1024.0;
+// The light's G-buffer holds each face at the RSM size: a point light's six faces at the largest RSM Size (4096)
+// took 5.2 GB (issue 18 measured a 5.4 GiB peak), so the size halves until they fit, as shadow maps do.
+constexpr double kRsmMemoryBudget = 1024.0 * 1024.0 * 1024.0;
 constexpr int kParaboloidBytesPerTexel = 16 + 8 + 8 + 4;
 
 struct GpuVpl {
@@ -200,10 +203,11 @@ void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers
 }
 
 void SsvpPass::render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light) {
-  const int size = std::clamp(context.settings.ssvp_rsm_size, 16, 8192);
   const LightViewKind kind = light_view_kind(light);
   // A cube's faces sit in a 3 x 2 atlas, so one Hammersley set over the atlas samples all of them.
   const int faces_x = kind == kLightViewCube ? 3 : 1, faces_y = kind == kLightViewCube ? 2 : 1;
+  const int size = size_within_budget(std::clamp(context.settings.ssvp_rsm_size, 16, 8192), 64, faces_x * faces_y,
+                                      kGBufferBytesPerTexel, kRsmMemoryBudget);
   const bool reuse = rsm_.gbuffer.width == faces_x * size && rsm_.gbuffer.height == faces_y * size &&
                      rsm_.geometry_version == context.scene.geometry_version() &&
                      std::memcmp(&rsm_.light, &light, sizeof light) == 0;
@@ -370,8 +374,8 @@ void SsvpPass::cluster(const RenderContext& context, const GBuffer& camera, cons
 void SsvpPass::render_paraboloids(const RenderContext& context) {
   StageScope scope(context.timer, Stage::SsvpParaboloids);
   const int layers = static_cast<int>(clusters_.size());
-  int size = std::clamp(context.settings.ssvp_paraboloid_size, 16, 4096);
-  while (size > 16 && double(layers) * size * size * kParaboloidBytesPerTexel > kParaboloidMemoryBudget) size /= 2;
+  const int size = size_within_budget(std::clamp(context.settings.ssvp_paraboloid_size, 16, 4096), 16, layers,
+                                      kParaboloidBytesPerTexel, kParaboloidMemoryBudget);
   if (layers > paraboloid_layers_ || size != paraboloid_size_) {
     const int allocated = std::max(layers, paraboloid_layers_);
     auto make_array = [&](GLenum format) {

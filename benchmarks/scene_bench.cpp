@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <exception>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -138,12 +139,14 @@ double median(std::vector<double> values) {
 
 int run(const Options& options) {
   const bounce::reference::SceneFile scene = bounce::reference::read_scene_file(options.scene_path);
-  std::FILE* csv = nullptr;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> csv_file(nullptr, std::fclose);
   if (!options.csv_path.empty()) {
-    csv = std::fopen(options.csv_path.c_str(), "w");
-    if (!csv) throw std::runtime_error("cannot write " + options.csv_path);
-    std::fprintf(csv, "scene,method,width,height,samples,repeat,stage,gpu_ms_per_sample,cpu_ms_per_sample\n");
+    csv_file.reset(std::fopen(options.csv_path.c_str(), "w"));
+    if (!csv_file) throw std::runtime_error("cannot write " + options.csv_path);
+    std::fprintf(csv_file.get(),
+                 "scene,method,width,height,samples,repeat,stage,gpu_ms_per_sample,cpu_ms_per_sample\n");
   }
+  std::FILE* csv = csv_file.get();
   std::string scene_name = options.scene_path.substr(options.scene_path.find_last_of('/') + 1);
   scene_name = scene_name.substr(0, scene_name.find('.'));
   std::printf("%s: %zu triangles, %zu lights, %dx%d, %d samples x %d repeats\n\n", scene_name.c_str(),
@@ -183,7 +186,6 @@ int run(const Options& options) {
           std::fprintf(csv, "%s,%s,%d,%d,%d,%d,wall,,%.4f\n", scene_name.c_str(), method.c_str(), scene.camera.width,
                        scene.camera.height, settings.samples, r, timings.back().wall_ms);
       }
-      // The stages of the median repeat, the largest first.
       const double wall = median(walls);
       const Timing& typical = *std::min_element(timings.begin(), timings.end(), [&](const Timing& a, const Timing& b) {
         return std::abs(a.wall_ms - wall) < std::abs(b.wall_ms - wall);
@@ -210,7 +212,6 @@ int run(const Options& options) {
     }
     bounce_engine_destroy(engine);
   }
-  if (csv) std::fclose(csv);
   return 0;
 }
 

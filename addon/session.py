@@ -4,7 +4,6 @@ It lives in a module dict keyed by id(render_engine), not on the Python object: 
 it calls __del__ with the engine's Blender data already gone (DESIGN.md, pitfalls), and all __del__ may do is
 release(id(self)).
 """
-import os
 
 from . import native
 from .export import SceneSync
@@ -21,7 +20,7 @@ latest_stats = {}
 class Session:
     def __init__(self, kind):
         self.kind = kind
-        self.engine = native.Engine(debug_gl=bool(os.environ.get("BOUNCE_DEBUG_GL")))
+        self.engine = native.Engine()  # the core reads BOUNCE_DEBUG_GL itself
         self.scene = SceneSync(self.engine)
         self.shown_reports = set()    # messages already shown (the viewport reports each once)
         self.scene_serial = 0         # bumped by the viewport whenever a sync sent something

@@ -101,8 +101,8 @@ EglContext::EglContext(const std::string& requested_platform, bool debug) {
     eglDestroyContext(display_, context_);
     fail(BOUNCE_ERROR_CONTEXT, message);
   }
-  // BOUNCE_GL_DEBUG=1 turns the driver's messages on without rebuilding a caller, to diagnose a driver.
-  const char* debug_env = std::getenv("BOUNCE_GL_DEBUG");
+  // BOUNCE_DEBUG_GL=1 turns the driver's messages on for every caller (the add-on, the tests), to diagnose a driver.
+  const char* debug_env = std::getenv("BOUNCE_DEBUG_GL");
   if (debug || (debug_env && *debug_env && std::string(debug_env) != "0")) {
     glEnable(GL_DEBUG_OUTPUT);
     glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);

@@ -30,7 +30,7 @@ struct Options {
   std::vector<std::string> methods = {"DIRECT", "FLC", "SSVP", "TOPOLOGY"};
   int samples = 16;
   int repeats = 3;
-  std::vector<std::pair<std::string, double>> overrides;
+  std::vector<std::pair<std::string, std::string>> overrides;
   std::string csv_path;
 };
 
@@ -38,23 +38,37 @@ void check(BounceStatus status, const char* what) {
   if (status != BOUNCE_OK) throw std::runtime_error(std::string(what) + ": " + bounce_last_error());
 }
 
-int32_t method_value(const std::string& name) {
-  static const std::map<std::string, int32_t> methods = {{"AUTO", BOUNCE_METHOD_AUTO},
-                                                         {"DIRECT", BOUNCE_METHOD_DIRECT},
-                                                         {"FLC", BOUNCE_METHOD_FLC},
-                                                         {"SSVP", BOUNCE_METHOD_SSVP},
-                                                         {"TOPOLOGY", BOUNCE_METHOD_TOPOLOGY}};
-  const auto found = methods.find(name);
-  if (found == methods.end()) throw std::runtime_error("unknown method '" + name + "'");
-  return found->second;
+// The value of an ENUM setting's item from its identifier, in settings.def's items ("ID:Label:Description|..."),
+// or -1.
+int32_t enum_value(const std::string& items, const std::string& identifier) {
+  int32_t index = 0;
+  for (std::size_t start = 0; start < items.size(); ++index) {
+    const std::size_t end = std::min(items.find('|', start), items.size());
+    if (items.compare(start, items.find(':', start) - start, identifier) == 0) return index;
+    start = end + 1;
+  }
+  return -1;
 }
 
-// Sets a setting of the one table (settings.def) by name; bounce_settings_validate checks its range.
-void set_setting(BounceSettings& settings, const std::string& name, double value) {
-#define BOUNCE_SETTING(ctype, glsl_type, kind, setting, ...) \
-  if (name == #setting) {                                    \
-    settings.setting = static_cast<ctype>(value);            \
-    return;                                                  \
+double number_of(const std::string& name, const std::string& value) {
+  try {
+    std::size_t used = 0;
+    const double number = std::stod(value, &used);
+    if (used == value.size()) return number;
+  } catch (const std::exception&) {
+  }
+  throw std::runtime_error("setting '" + name + "': '" + value + "' is neither a number nor one of its items");
+}
+
+// Sets a setting of the one table (settings.def) by name, from a number or an ENUM item's identifier ("FLC");
+// bounce_settings_validate checks its range.
+void set_setting(BounceSettings& settings, const std::string& name, const std::string& value) {
+#define BOUNCE_SETTING(ctype, glsl_type, kind, setting, label, def, min, max, soft_min, soft_max, flags, group, items, \
+                       desc)                                                                                           \
+  if (name == #setting) {                                                                                              \
+    const int32_t item = enum_value(items, value);                                                                     \
+    settings.setting = static_cast<ctype>(item >= 0 ? double(item) : number_of(name, value));                          \
+    return;                                                                                                            \
   }
 #include "bounce/settings.def"
 #undef BOUNCE_SETTING
@@ -157,7 +171,7 @@ int run(const Options& options) {
   for (const std::string& method : options.methods) {
     BounceSettings settings;
     bounce_settings_defaults(&settings);
-    settings.method = method_value(method);
+    set_setting(settings, "method", method);
     settings.samples = options.samples;
     for (const auto& [name, value] : options.overrides) set_setting(settings, name, value);
     check(bounce_settings_validate(&settings), "settings");
@@ -244,7 +258,7 @@ Options parse(int argc, char** argv) {
       const std::string assignment = value();
       const std::size_t equals = assignment.find('=');
       if (equals == std::string::npos) throw std::runtime_error("--set takes NAME=VALUE");
-      options.overrides.emplace_back(assignment.substr(0, equals), std::stod(assignment.substr(equals + 1)));
+      options.overrides.emplace_back(assignment.substr(0, equals), assignment.substr(equals + 1));
     } else if (options.scene_path.empty() && arg.rfind("--", 0) != 0) {
       options.scene_path = arg;
     } else {

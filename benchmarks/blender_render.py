@@ -39,12 +39,7 @@ def load_test_helpers():
 bl_common, oracle = load_test_helpers()
 
 
-def addon_module(name):
-    """The add-on's submodule `name`, whether it runs as a legacy add-on or as an extension."""
-    for package in ("bounce", "bl_ext.user_default.bounce"):
-        if package in sys.modules:
-            return importlib.import_module(f"{package}.{name}")
-    raise RuntimeError("the Bounce add-on is not enabled (run through scripts/blender)")
+addon_module = bl_common.addon_module
 
 
 class NativeSession:

@@ -22,7 +22,7 @@ _AREA_TYPES = {"SQUARE": native.LIGHT_AREA_RECT, "RECTANGLE": native.LIGHT_AREA_
 def convert_light(light, matrix_world, reports):
     """A native.Light for an evaluated Light datablock placed by `matrix_world`; None for unknown types."""
     out = native.Light()
-    out.cast_shadow = 1 if _casts_shadow(light) else 0
+    out.cast_shadow = 1 if casts_shadow(light) else 0
 
     position = matrix_world.to_translation()
     basis = matrix_world.to_3x3()
@@ -81,7 +81,7 @@ def shadow_property(light):
     return (cycles, "cast_shadow") if cycles is not None else (None, None)
 
 
-def _casts_shadow(light):
+def casts_shadow(light):
     owner, name = shadow_property(light)
     return bool(getattr(owner, name, True)) if owner is not None else True
 

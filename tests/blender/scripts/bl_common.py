@@ -3,8 +3,8 @@
 Every script takes its arguments after `--` and writes its results (EXR, JSON) into a folder the pytest side
 reads. Nothing here asserts: checks belong to the pytest side.
 """
+import importlib
 import json
-import math
 import os
 import sys
 
@@ -14,6 +14,14 @@ import bpy
 def args():
     """The arguments after '--' on Blender's command line."""
     return sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+
+
+def addon_module(name):
+    """The add-on's submodule `name` (e.g. "native", "export.lights"), as a legacy add-on or as an extension."""
+    for package in ("bounce", "bl_ext.user_default.bounce"):
+        if package in sys.modules:
+            return importlib.import_module(f"{package}.{name}")
+    raise RuntimeError("the Bounce add-on is not enabled (run through scripts/blender)")
 
 
 def version():

@@ -6,7 +6,6 @@ OUT/result.json and OUT/window.png; quits Blender.
 
 Arguments after --: OUT CAPTURE (screenshot or xwd, as viewport_check.py).
 """
-import importlib
 import json
 import os
 import subprocess
@@ -16,15 +15,11 @@ import traceback
 
 import bpy
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bl_common  # noqa: E402
+
 OUT, CAPTURE = sys.argv[sys.argv.index("--") + 1:][:2]
 result = {}
-
-
-def addon_module(name):
-    for package in ("bounce", "bl_ext.user_default.bounce"):
-        if package in sys.modules:
-            return importlib.import_module(f"{package}.{name}")
-    raise RuntimeError("Bounce add-on not loaded")
 
 
 def areas(kind):
@@ -84,7 +79,7 @@ def main():
     started = time.perf_counter()
 
     def wait_for_frame():  # until the Rendered view has drawn a frame of the engine's (or a minute has passed)
-        sessions = addon_module("session").viewport_sessions()
+        sessions = bl_common.addon_module("session").viewport_sessions()
         drawn = bool(sessions) and (sessions[0].texture_serial or 0) > 0
         if not drawn and time.perf_counter() - started < 60.0:
             return 0.25

@@ -124,23 +124,14 @@ def random_light(rng, scene, index):
     return ob
 
 
-def shadow_switch(light):
-    """(owner, name) of the cast-shadow switch Bounce reads (export/lights.py): `use_shadow` from 4.0, Cycles'
-    `cast_shadow` on 3.x (whose `use_shadow` is EEVEE's)."""
-    if bpy.app.version >= (4, 0, 0):
-        return light, "use_shadow"
-    return getattr(light, "cycles", None), "cast_shadow"
-
-
 def set_casts_shadow(light, value):
-    owner, name = shadow_switch(light)
+    owner, name = bc.addon_module("export.lights").shadow_property(light)
     if owner is not None:
         setattr(owner, name, value)
 
 
 def casts_shadow(light):
-    owner, name = shadow_switch(light)
-    return owner is None or bool(getattr(owner, name))
+    return bc.addon_module("export.lights").casts_shadow(light)
 
 
 def unshadowed_suns(scene):

@@ -9,7 +9,6 @@ add-on's sync counters. Writes OUT/result.json, OUT/window.png, OUT/frame.npy; q
 Arguments after --: OUT CAPTURE, CAPTURE = screenshot (bpy.ops.screen.screenshot) or xwd (an X-level capture,
 for Blender versions whose screenshot operator writes black under Xvfb).
 """
-import importlib
 import json
 import os
 import subprocess
@@ -20,16 +19,12 @@ import traceback
 import bpy
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bl_common  # noqa: E402
+
 OUT, CAPTURE = sys.argv[sys.argv.index("--") + 1:][:2]
 TICK = 0.02
 result = {"steps": []}
-
-
-def addon(name):
-    for package in ("bounce", "bl_ext.user_default.bounce"):
-        if package in sys.modules:
-            return importlib.import_module(f"{package}.{name}")
-    raise RuntimeError("Bounce add-on not loaded")
 
 
 def view_3d():
@@ -40,7 +35,7 @@ def view_3d():
 
 
 def viewport_session():
-    sessions = addon("session").viewport_sessions()
+    sessions = bl_common.addon_module("session").viewport_sessions()
     return sessions[0] if sessions else None
 
 
@@ -49,7 +44,7 @@ def rendered_and_drawn():
     if current is None:
         return False
     progress = current.engine.render_progress()
-    native = addon("native")
+    native = bl_common.addon_module("native")
     return (progress.state == native.RENDER_DONE and current.texture_serial == progress.frame_serial
             and progress.frame_serial > 0)
 
@@ -66,7 +61,7 @@ def capture(path):
 
 
 def stats():
-    return dict(addon("session").latest_stats["viewport"].as_dict())
+    return dict(bl_common.addon_module("session").latest_stats["viewport"].as_dict())
 
 
 # ---- The steps, each run from a timer until it returns True ---------------------------------------------
@@ -107,7 +102,7 @@ def step_capture():
     window, area, region = view_3d()
     current = viewport_session()
     info = current.engine.frame_info()
-    frame = current.engine.frame_read(addon("native").AOV_COMBINED, info.width, info.height)
+    frame = current.engine.frame_read(bl_common.addon_module("native").AOV_COMBINED, info.width, info.height)
     np.save(os.path.join(OUT, "frame.npy"), np.asarray(frame).reshape(info.height, info.width, -1))
     capture(os.path.join(OUT, "window.png"))
     result["region"] = {"x": region.x, "y": region.y, "width": region.width, "height": region.height}
@@ -154,7 +149,7 @@ def step_responsive():
     result["ticks"].append(time.perf_counter())
     current = viewport_session()
     progress = current.engine.render_progress()
-    native = addon("native")
+    native = bl_common.addon_module("native")
     if len(result["ticks"]) < 10:
         return False
     if progress.state == native.RENDER_RUNNING and len(result["ticks"]) < 150:

@@ -54,7 +54,8 @@ def parse_args(argv):
     parser.add_argument("--scenes", help="comma-separated scene names instead of the suite's: cornell, sponza, two-rooms, "
                         "two-rooms-wall, sunlit-interior, cornell-emissive, sponza-hdri, sunlit-interior-sky, grid, "
                         "grid-100k, dragons-N; NAME:CAMERA renders NAME through its camera object CAMERA (e.g. "
-                        "two-rooms-wall:CameraA)")
+                        "two-rooms-wall:CameraA); NAME@SOURCES renders NAME lit by those light source classes "
+                        "alone (lamps, world, emission, joined by '+'; e.g. sunlit-interior-sky@world)")
     parser.add_argument("--resolution", help="WxH for every scene instead of the suite's")
     parser.add_argument("--repeats", type=int, help="renders per configuration (timings are medians)")
     parser.add_argument("--copies", help="triangles suite: dragon copies, e.g. 1,2,5,10 (100k triangles each)")

@@ -12,6 +12,8 @@ JOBS: {"records": path, "info": optional path (receives Blender's version, the G
                   recorded with role "warm-up": its wall time is a first render's, one-off costs included),
        "jobs": [{"engine": "BOUNCE" | "CYCLES" | "CPU_REFERENCE", "width", "height", "repeats",
                  "camera": optional name of the camera object to render from (default: the scene's camera),
+                 "sources": optional '+'-joined light source classes that alone light the scene
+                            (bl_common.keep_light_sources),
                  "bounce": {setting: value},            # scene.bounce.<setting>; the rest stays at defaults
                  "cycles": {"samples", "seed", "device", "bounces"},  # the oracle of DESIGN.md: exactly `bounces`
                  "exr": optional path (multilayer EXR of the first repeat), "meta": {...copied into records},
@@ -115,6 +117,8 @@ def configure(scene, job):
     bl_common.set_resolution(scene, job["width"], job["height"])
     if job.get("camera"):
         scene.camera = bpy.data.objects[job["camera"]]
+    if job.get("sources"):
+        bl_common.keep_light_sources(scene, job["sources"])
     bl_common.linear_output(scene)
     if job["engine"] == "CYCLES":
         cycles = job.get("cycles", {})

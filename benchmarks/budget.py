@@ -155,7 +155,9 @@ method without a Second Bounce pass and two bounces (Topology today) has its bou
 (indirect). ratio = mean(Bounce) / mean(Cycles) over the pixels that see geometry (L / M / R: left, middle and
 right third of the columns; inf where Cycles is black and Bounce is not, '-' where both are); relMSE =
 mean((x - r)^2 / (r^2 + 0.01)) per pixel / after a 4x4 box downsample of both images; rel. RMSE as the other
-suites."""
+suites. A scene NAME@SOURCES is NAME lit by those light source classes alone (lamps, world, emission), in both
+renderers: light adds up, so its components are their share of NAME's (NAME@world's direct is the world's direct
+light, its first bounce the world's share of the first bounce)."""
 
 
 def _bias_flags(scene, row, part):

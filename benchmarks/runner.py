@@ -60,9 +60,10 @@ class Scene:
     (changes when the script that builds the scene changes), `extra_triangles` for the sync grid, `camera` the
     camera object every render of it looks through (None: the .blend's active camera)."""
 
-    def __init__(self, name, blend=None, key=None, extra_triangles=0, triangles_hint=None, camera=None):
+    def __init__(self, name, blend=None, key=None, extra_triangles=0, triangles_hint=None, camera=None, sources=None):
         self.name, self.blend, self.key = name, blend, key or name
         self.extra_triangles, self.triangles_hint, self.camera = extra_triangles, triangles_hint, camera
+        self.sources = sources  # None: every light; else '+'-joined classes of bl_common.LIGHT_SOURCE_CLASSES
 
 
 def _build(name, script, args, cache):
@@ -86,7 +87,14 @@ def _build(name, script, args, cache):
 def standard_scene(name, cache):
     """cornell, sponza (from ../shared/scenes/setups), two-rooms, two-rooms-wall, sunlit-interior (LOCAL_SCENES),
     cornell-emissive, sponza-hdri, sunlit-interior-sky (RELIT_SCENES) or grid (the factory scene plus 1M triangles). 'NAME:CAMERA' (e.g. two-rooms-wall:CameraA) is scene NAME seen
-    through its camera object CAMERA; its references are cached apart."""
+    through its camera object CAMERA; its references are cached apart. 'NAME@SOURCES' (e.g. sunlit-interior-sky@world,
+    cornell@lamps+world) is NAME lit by those source classes alone (lamps, world, emission), in Cycles and Bounce
+    alike: light adds up, so that scene's components are those classes' share of NAME's."""
+    base_name, _, sources = name.partition("@")
+    if sources:
+        scene = standard_scene(base_name, cache)
+        scene.name, scene.key, scene.sources = name, f"{scene.key}-only-{sources}", sources
+        return scene
     if name == "grid":
         return Scene("grid-1M", extra_triangles=1_000_000)
     if name.startswith("grid-"):  # grid-<triangles>, e.g. grid-100k for quick runs
@@ -123,6 +131,8 @@ def run_blender(scene, jobs, work, info=None):
     wrote. Progress lines pass through."""
     if scene.camera:
         jobs = [dict(job, camera=scene.camera) for job in jobs]
+    if scene.sources:
+        jobs = [dict(job, sources=scene.sources) for job in jobs]
     return run_script(scene, RENDER_SCRIPT, {"info": str(info) if info else None,
                                              "extra_triangles": scene.extra_triangles, "jobs": jobs}, work)
 

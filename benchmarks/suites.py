@@ -445,7 +445,9 @@ def topology_report(ctx, records, _stages):
 _BUDGET_SCENES = [("cornell", 256, 256), ("sponza", 480, 270), ("two-rooms", 480, 270), ("two-rooms-wall", 480, 270),
                   (budget.LIT_ROOM, 480, 270), ("sunlit-interior", 480, 270),
                   # lit by emission or the world alone, or by the world added (issue 16)
-                  ("cornell-emissive", 256, 256), ("sponza-hdri", 480, 270), ("sunlit-interior-sky", 480, 270)]
+                  ("cornell-emissive", 256, 256), ("sponza-hdri", 480, 270), ("sunlit-interior-sky", 480, 270),
+                  # its sources apart: the world's and the sun's share of each component
+                  ("sunlit-interior-sky@world", 480, 270), ("sunlit-interior-sky@lamps", 480, 270)]
 _QUICK_BUDGET_SCENES = [("cornell", 64, 64)] + [(name, 96, 54) for name, _, _ in _BUDGET_SCENES[1:]]
 # Error over time needs a reference that is not black: not the closed room.
 _TIME_SCENES = [s for s in _BUDGET_SCENES if s[0] not in (budget.CLOSED_ROOM, budget.LIT_ROOM)]

@@ -2,7 +2,8 @@
 (albedo 0.8) seen straight down, under a uniform sky, under a rotated studio HDRI, and below a square emitter
 (scripts/world_scene.py says how each expectation is computed). Closed forms, as Cycles measured them (issue 16):
 sky radiance 0.8 x world; emitter 0.8 x 10 x the view factor, 1.9157 below its centre (Cycles 1.9128); an emission
-colour from an image texture tints that light.
+colour from an image texture tints that light. And the benchmark's split of a scene's light by source class
+(NAME@SOURCES, bl_common.keep_light_sources): sky, sun and emitter each alone add up to all three at once.
 """
 import numpy as np
 import pytest
@@ -11,9 +12,11 @@ import analytic
 from conftest import layer_pass, read_exr, record
 
 METHODS = ["DIRECT", "FLC", "SSVP", "TOPOLOGY"]
+SOURCE_SHARES = ["sky_sun_emitter@world", "sky_sun_emitter@lamps", "sky_sun_emitter@emission"]
+SPLIT = ["sky_sun_emitter", *SOURCE_SHARES]
 SPEC = {
     "resolution": 32, "ortho_scale": 4.0, "center": [0.0, 0.0], "camera_height": 20.0, "plane_size": 100.0,
-    "methods": METHODS, "cases": ["sky", "hdri", "emitter", "textured_emitter"],
+    "methods": METHODS, "cases": ["sky", "hdri", "emitter", "textured_emitter", *SPLIT],
     "bounce": {"samples": 256, "filter_width": 0.0, "shadow_map_size": 512},
 }
 # The sky and the HDRI are sampled by directions shared by all pixels: 64 samples x 4 directions, stratified in
@@ -42,7 +45,7 @@ def expected_radiance(name, case):
 
 
 @pytest.mark.parametrize("method", METHODS)
-@pytest.mark.parametrize("name", SPEC["cases"])
+@pytest.mark.parametrize("name", [c for c in SPEC["cases"] if c not in SPLIT])
 def test_world_and_emission_light_the_plane(name, method, world_renders):
     case = world_renders["cases"][name]
     rgb = layer_pass(read_exr(case["exr"][method]), "Combined", "RGB").astype(np.float64)
@@ -55,3 +58,20 @@ def test_world_and_emission_light_the_plane(name, method, world_renders):
     ratio = rgb[mask].mean(axis=0) / expected[mask].mean(axis=0)
     record(f"world_{name}_{method}_ratio", [round(float(r), 4) for r in ratio])
     assert np.all(np.abs(ratio - 1.0) < TOLERANCE[name]), f"{name}, {method}: mean ratio {ratio} to the closed form"
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_light_source_shares_add_up(method, world_renders):
+    def combined(name):
+        rgb = layer_pass(read_exr(world_renders["cases"][name]["exr"][method]), "Combined", "RGB").astype(np.float64)
+        assert np.all(np.isfinite(rgb)), f"{name}: non-finite pixels"
+        return rgb.mean(axis=(0, 1))
+
+    whole = combined(SPLIT[0])
+    shares = [combined(name) for name in SOURCE_SHARES]
+    ratio = sum(shares) / whole
+    record(f"light_source_shares_{method}", {"whole": [round(float(v), 4) for v in whole],
+                                             "ratio": [round(float(r), 4) for r in ratio]})
+    for name, share in zip(SOURCE_SHARES, shares):
+        assert np.all(share > 0.05 * whole), f"{name}, {method}: {share} of {whole}: the source lit nothing"
+    assert np.all(np.abs(ratio - 1.0) < 0.02), f"{method}: the sources alone add up to {ratio} of all at once"

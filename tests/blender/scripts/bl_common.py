@@ -80,6 +80,43 @@ def black_world(scene):
     scene.world = world
 
 
+LIGHT_SOURCE_CLASSES = ("lamps", "world", "emission")
+
+
+def _silence(socket):
+    """A shader input to 0, unlinked: what feeds it no longer matters."""
+    for link in list(socket.links):
+        socket.id_data.links.remove(link)
+    socket.default_value = 0.0
+
+
+def keep_light_sources(scene, sources):
+    """Only the light source classes in `sources` ('+'-joined LIGHT_SOURCE_CLASSES) light the scene: the other lamps
+    are hidden from the render, the world's Background strength and the materials' emission strength set to 0.
+    Geometry stays (a dark emitter still occludes), so each class's render is its share of the whole (the
+    benchmark's NAME@SOURCES scenes; tests/blender/test_world_emission.py checks that the shares add up)."""
+    keep = set(sources.split("+"))
+    if not keep <= set(LIGHT_SOURCE_CLASSES):
+        unknown = sorted(keep - set(LIGHT_SOURCE_CLASSES))
+        raise ValueError(f"unknown light sources {unknown}; known: {LIGHT_SOURCE_CLASSES}")
+    if "lamps" not in keep:
+        for ob in scene.objects:
+            if ob.type == "LIGHT":
+                ob.hide_render = True
+    if "world" not in keep and scene.world:
+        scene.world.color = (0.0, 0.0, 0.0)
+        for node in scene.world.node_tree.nodes if scene.world.use_nodes else []:
+            if node.type == "BACKGROUND":
+                _silence(node.inputs["Strength"])
+    if "emission" not in keep:
+        for material in bpy.data.materials:
+            for node in material.node_tree.nodes if material.use_nodes else []:
+                if node.type == "EMISSION":
+                    _silence(node.inputs["Strength"])
+                elif node.type == "BSDF_PRINCIPLED":
+                    _silence(node.inputs["Emission Strength"])
+
+
 def add_mesh(scene, name, verts, faces, material=None):
     me = bpy.data.meshes.new(name)
     me.from_pydata(verts, [], faces)

@@ -5,6 +5,8 @@ OUT/world.json with what each case expects, computed here from Blender's own dat
   sky:     a uniform white world of strength 1: radiance 0.8 everywhere;
   emitter: a 1 m square Emission surface of strength 10, 1 m above the plane (the test computes its view factor);
   textured_emitter: the same, its colour from a one-texel Image Texture: the emitter's light times the texel;
+  sky_sun_emitter: a uniform sky of strength 0.5, a sun and the emitter at once, whole and (NAME@SOURCES) lit by
+           each class alone (bl_common.keep_light_sources, the benchmark's source split): the shares must add up;
   hdri:    Blender's studio HDRI forest.exr through a Mapping node rotated (30, 0, 45) degrees, strength 0.5: the
            plane's radiance 0.8 / pi x the environment's cosine-weighted integral over the upper hemisphere,
            summed here over the image's pixels (numpy), independently of the add-on and the core.
@@ -102,7 +104,22 @@ def textured_emitter(scene):
     return emitter(scene, tint=(0.25, 0.5, 1.0))
 
 
-CASES = {"sky": uniform_sky, "hdri": hdri_sky, "emitter": emitter, "textured_emitter": textured_emitter}
+def sky_sun_emitter(scene):
+    expected = emitter(scene)
+    _, background = world_nodes(scene)
+    background.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    background.inputs["Strength"].default_value = 0.5
+    sun = bpy.data.lights.new("Sun", "SUN")
+    sun.energy = 2.0
+    sun.angle = math.radians(2.0)
+    sun_object = bpy.data.objects.new("Sun", sun)
+    sun_object.rotation_euler = (math.radians(30.0), 0.0, math.radians(20.0))
+    scene.collection.objects.link(sun_object)
+    return expected
+
+
+CASES = {"sky": uniform_sky, "hdri": hdri_sky, "emitter": emitter, "textured_emitter": textured_emitter,
+         "sky_sun_emitter": sky_sun_emitter}
 
 
 def main():
@@ -117,7 +134,10 @@ def main():
         bc.add_ortho_camera(scene, spec["center"], spec["camera_height"], spec["ortho_scale"])
         bc.set_resolution(scene, spec["resolution"], spec["resolution"])
         bc.linear_output(scene)
-        expected = CASES[name](scene)
+        base, _, sources = name.partition("@")
+        expected = CASES[base](scene)
+        if sources:
+            bc.keep_light_sources(scene, sources)
         renders = {}
         for method in spec["methods"]:
             bc.bounce_settings(scene, **dict(spec["bounce"], method=method))

@@ -16,7 +16,11 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import images  # noqa: E402
+try:
+    import images  # noqa: E402
+except ModuleNotFoundError as missing:  # numpy, OpenImageIO, matplotlib: the test packages, not the demo's
+    sys.exit(f"scripts/benchmark: Python module '{missing.name}' is missing; `scripts/install-deps` installs it "
+             "(the benchmarks need the test packages, which `scripts/demo` does not install)")
 import report  # noqa: E402
 import runner  # noqa: E402
 from runner import log  # noqa: E402

@@ -58,12 +58,13 @@ def _digest(*parts):
 class Scene:
     """A scene to render: `name` for tables, `blend` (None: the factory scene), `key` for the reference cache
     (changes when the script that builds the scene changes), `extra_triangles` for the sync grid, `camera` the
-    camera object every render of it looks through (None: the .blend's active camera)."""
+    camera object every render of it looks through (None: the .blend's active camera), `sources` the light source
+    classes that alone light it (None: every light; else '+'-joined bl_common.LIGHT_SOURCE_CLASSES)."""
 
-    def __init__(self, name, blend=None, key=None, extra_triangles=0, triangles_hint=None, camera=None, sources=None):
+    def __init__(self, name, blend=None, key=None, extra_triangles=0, triangles_hint=None, camera=None):
         self.name, self.blend, self.key = name, blend, key or name
         self.extra_triangles, self.triangles_hint, self.camera = extra_triangles, triangles_hint, camera
-        self.sources = sources  # None: every light; else '+'-joined classes of bl_common.LIGHT_SOURCE_CLASSES
+        self.sources = None
 
 
 def _build(name, script, args, cache):

@@ -4,7 +4,7 @@
 // huge and negative values, unknown enums. Every call must return a status, never crash or trip ASan/UBSan; the
 // scene statistics are then read back (the render thread applies the edits, GPU upload included).
 //
-//   build: CC=clang CXX=clang++ cmake -DBOUNCE_SANITIZE=ON -DBOUNCE_LIBFUZZER=ON ... (scripts/test, stage fuzz)
+//   build: CC=clang CXX=clang++ cmake -DBOUNCE_SANITIZE=ON -DBOUNCE_LIBFUZZER=ON ... (scripts/test, stage libfuzzer)
 //   run:   bounce_api_fuzz tests/native/fuzz_corpus/api -max_total_time=60
 // Rendering is left to the scene fuzzer (bounce_scene_fuzz), which draws valid-looking scenes with every method;
 // here one execution must stay well under a millisecond so that millions run.

@@ -26,6 +26,9 @@ WAIT_MS = 100
 
 # Summary of the last final render, for the render panel: {"stages": [(name, gpu_ms, cpu_ms)], ...}.
 last_render = {}
+# Auto's last plan, from the viewport or a final render, for the render panel: {"text", "method", "components",
+# "where"}.
+last_plan = {}
 
 
 def register_passes(engine, scene, view_layer):
@@ -79,8 +82,10 @@ def _render(engine, depsgraph, reports):
     if info.nonfinite_pixels:
         reports.warn(f"Bounce: {info.nonfinite_pixels} pixels were not finite and were set to zero")
     _write_result(engine, depsgraph, current.engine, info)
-    _summarize(engine, kind, info, settings.method, scene_stats, current.scene.stats, render_seconds)
-    if settings.method == native.METHOD_TOPOLOGY and kind == session.FINAL:
+    _summarize(engine, kind, info, scene_stats, current.scene.stats, render_seconds)
+    if info.plan() and kind == session.FINAL:
+        print(f"Bounce: {auto_line(info)}: {info.plan()}")
+    if info.method == native.METHOD_TOPOLOGY and kind == session.FINAL:
         topology = current.engine.topology_info()
         built = "built" if topology.builds > builds_before else "from the cache"
         last_render["topology"] = f"{built}: {topology.summary()}"
@@ -163,15 +168,31 @@ def indirect_summary(info, light_names, method):
     return ""
 
 
-def _summarize(engine, kind, info, method, scene_stats, sync_stats, render_seconds):
+def auto_line(info):
+    """Auto's choice in a few words, e.g. "Auto: Screen-Space VPL Propagation, 2 bounces"."""
+    method = native.METHOD_NAMES[info.method] if 0 <= info.method < len(native.METHOD_NAMES) else "?"
+    return f"Auto: {method}"
+
+
+def remember_plan(info, where):
+    """Keeps Auto's plan of a frame for the render panel (nothing for an explicit method)."""
+    if not info.plan():
+        return
+    last_plan.clear()
+    last_plan.update(text=info.plan(), method=auto_line(info), components=info.shares.components(),
+                     analysis_ms=info.shares.analysis_ms, where=where)
+
+
+def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
     stages = info.stage_list()
     # CPU stages (the topology method's) have no GPU time: their wall time stands in.
     stage_text = ", ".join(f"{name} {gpu_ms or cpu_ms:.1f} ms" for name, gpu_ms, cpu_ms in stages)
-    indirect = indirect_summary(info, sync_stats.last_light_names, method)
-    indirect_text = f" | {indirect}" if indirect else ""
+    indirect = indirect_summary(info, sync_stats.last_light_names, info.method)
+    indirect_text = "".join(f" | {text}" for text in (auto_line(info) if info.plan() else "", indirect) if text)
     engine.update_stats("", f"Bounce | {info.samples} samples{indirect_text} | {stage_text}")
     if kind != session.FINAL:
         return
+    remember_plan(info, "final render")
     last_render.clear()
     last_render.update(
         stages=stages, samples=info.samples, width=info.width, height=info.height,
@@ -179,4 +200,4 @@ def _summarize(engine, kind, info, method, scene_stats, sync_stats, render_secon
         triangles=scene_stats.triangle_count, dropped_triangles=scene_stats.dropped_triangles,
         lights=scene_stats.light_count, skipped_lights=scene_stats.skipped_lights,
         meshes=scene_stats.mesh_count, instances=scene_stats.instance_count, gpu_bytes=scene_stats.gpu_bytes,
-        indirect=indirect)
+        indirect=indirect, plan=info.plan(), analysis_ms=info.shares.analysis_ms)

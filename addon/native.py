@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 7  # BOUNCE_API_VERSION this module was written against
+API_VERSION = 8  # BOUNCE_API_VERSION this module was written against
 
 LIBRARY_ENV = "BOUNCE_LIBRARY"
 LIBRARY_NAME = "libbounce.so"
@@ -85,7 +85,12 @@ LIGHT_SUN = 2
 LIGHT_AREA_RECT = 3
 LIGHT_AREA_ELLIPSE = 4
 
+METHOD_AUTO = 0
+METHOD_DIRECT = 1
+METHOD_FLC = 2
+METHOD_SSVP = 3
 METHOD_TOPOLOGY = 4
+METHOD_NAMES = ("Auto", "Direct", "Forward Light Cuts", "Screen-Space VPL Propagation", "Topology")
 
 AOV_COMBINED = 0
 AOV_DIRECT = 1
@@ -222,6 +227,27 @@ class StageTime(ctypes.Structure):
                 ("cpu_ms", ctypes.c_double)]
 
 
+class LightShares(ctypes.Structure):
+    _fields_ = [("direct", _f32 * 3),
+                ("first_bounce", _f32 * 3),
+                ("second_bounce", _f32),
+                ("emission_seen", _f32),
+                ("background_seen", _f32),
+                ("mean_albedo", _f32),
+                ("openness", _f32),
+                ("analysis_ms", _f32)]
+
+    SOURCES = ("Lamps", "World", "Emission")
+
+    def components(self):
+        """[(label, share), ...] of the image's components with light, largest first."""
+        rows = [(f"{source} direct", self.direct[i]) for i, source in enumerate(self.SOURCES)]
+        rows += [(f"{source} first bounce", self.first_bounce[i]) for i, source in enumerate(self.SOURCES)]
+        rows += [("Second bounce", self.second_bounce), ("Emission seen", self.emission_seen),
+                 ("World seen", self.background_seen)]
+        return sorted(((label, share) for label, share in rows if share > 0.0), key=lambda row: -row[1])
+
+
 class FrameInfo(ctypes.Structure):
     _fields_ = [("width", _i32),
                 ("height", _i32),
@@ -233,7 +259,14 @@ class FrameInfo(ctypes.Structure):
                 ("vpl_count", _u64),
                 ("divergent_triangles", _u64),
                 ("main_light", _i32),
-                ("cluster_count", _i32)]
+                ("cluster_count", _i32),
+                ("method", _i32),
+                ("plan_text", ctypes.c_char * 512),
+                ("shares", LightShares)]
+
+    def plan(self):
+        """Auto's plan in a few sentences; "" for an explicit method."""
+        return self.plan_text.decode("utf-8", "replace")
 
     def stage_list(self):
         """[(name, gpu_ms, cpu_ms), ...] of the stages filled in."""

@@ -116,6 +116,8 @@ class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
                        f"render {info['render_seconds'] * 1e3:.0f} ms, sync {info['sync_seconds'] * 1e3:.0f} ms")
         col.label(text=f"{info['triangles']:,} triangles, {info['instances']} instances, {info['meshes']} meshes, "
                        f"{info['lights']} lights, {info['gpu_bytes'] / 2**20:.1f} MiB")
+        for line in _wrap(info["plan"], 70):
+            col.label(text=line)
         if info["indirect"]:
             col.label(text=info["indirect"])
         if info.get("topology"):
@@ -146,7 +148,7 @@ GROUP_NOTES = {
 
 
 # Methods each setting applies to, where not every method reads it: the row is greyed out for the others.
-ROW_METHODS = {"bounces": {"SSVP", "TOPOLOGY"}}
+ROW_METHODS = {"bounces": {"SSVP", "TOPOLOGY"}, "auto_threshold": {"AUTO"}}
 # Settings whose value a method caps below the property's maximum: (method, cap, note).
 ROW_CAPS = {"bounces": ("SSVP", 2, "Screen-Space VPL Propagation simulates 2 bounces at most")}
 
@@ -189,10 +191,40 @@ def _settings_panel(group, rows, order):
             values.label(text="Viewport")
         for row in rows:
             _draw_row(layout, props, row)
+        extra = GROUP_EXTRAS.get(group)
+        if extra is not None:
+            extra(layout, props)
 
     slug = "".join(c if c.isalnum() else "_" for c in group.lower())
     return type(f"BOUNCE_PT_settings_{slug}", (BouncePanel, bpy.types.Panel),
                 {"bl_label": group, "bl_order": order, "draw": draw})
+
+
+BAR_WIDTH = 20  # characters of a full share bar
+
+
+def _draw_auto_plan(layout, props):
+    """What Auto chose the last time it rendered, in words, and each component's share of the image as a bar."""
+    if props.method != "AUTO":
+        return
+    box = layout.box()
+    plan = final.last_plan
+    if not plan:
+        box.label(text="Auto's plan shows here after a render", icon="INFO")
+        return
+    box.label(text=f"{plan['method']} (last {plan['where']})", icon="LIGHT")
+    col = box.column(align=True)
+    for line in _wrap(plan["text"], 60):
+        col.label(text=line)
+    grid = box.grid_flow(row_major=True, columns=3, even_columns=False, align=True)
+    for label, share in plan["components"]:
+        grid.label(text=label)
+        grid.label(text=f"{100 * share:.1f} %")
+        grid.label(text="\u2588" * max(1, round(BAR_WIDTH * share)))
+
+
+# Drawn below a group's settings.
+GROUP_EXTRAS = {"General": _draw_auto_plan}
 
 
 def _label_split(layout):

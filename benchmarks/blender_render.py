@@ -236,6 +236,8 @@ def render_once(scene, job, records, meta, progress, exr=None):
                       stages={stage: {"gpu_ms": gpu, "cpu_ms": cpu} for stage, gpu, cpu in info["stages"]})
         if "topology" in info:  # whether this render built the topology or found it cached
             record["topology"] = info["topology"]
+        if info.get("plan"):
+            record.update(plan=info["plan"], analysis_ms=info["analysis_ms"])
     if exr:
         save_exr(scene, exr)
         record["exr"] = exr

@@ -27,7 +27,7 @@ BUDGETS_S = (1.0, 2.0)
 # (a quarter of them, as each costs one ray per pixel), which splits its error between the VPLs and its
 # visibility rule. A configuration whose setting the build lacks is skipped and said so.
 PAPER_FLC = {"method": "FLC", "flc_visibility": False}
-CONFIGS = [{"method": "DIRECT"}, PAPER_FLC, {"method": "FLC", "flc_visibility": True},
+CONFIGS = [{"method": "AUTO"}, {"method": "DIRECT"}, PAPER_FLC, {"method": "FLC", "flc_visibility": True},
            {"method": "SSVP", "bounces": 2}, {"method": "TOPOLOGY", "bounces": 2}, {"method": "TOPOLOGY", "bounces": 1},
            {"method": "TOPOLOGY", "bounces": 1, "topology_visibility": "SHADOW_RAYS", "topology_vpls": 256}]
 # The closed room of two-rooms-wall (its default camera) and the same scene from the lit room.

@@ -21,6 +21,7 @@ inline uint32_t method_aovs(int32_t method) {
     aovs |= (1u << BOUNCE_AOV_INDIRECT) | (1u << BOUNCE_AOV_VPLS);
   if (method == BOUNCE_METHOD_SSVP || method == BOUNCE_METHOD_TOPOLOGY) aovs |= 1u << BOUNCE_AOV_SECOND_BOUNCE;
   if (method == BOUNCE_METHOD_TOPOLOGY) aovs |= (1u << BOUNCE_AOV_INDIRECT) | (1u << BOUNCE_AOV_TOPOLOGY);
+  if (method == BOUNCE_METHOD_AUTO) aovs |= (1u << BOUNCE_AOV_INDIRECT) | (1u << BOUNCE_AOV_SECOND_BOUNCE);
   return aovs;
 }
 

@@ -34,7 +34,7 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
     case BOUNCE_METHOD_TOPOLOGY:
       plan.indirect = FramePlan::Indirect::Topology;
       break;
-    default:  // DIRECT, and AUTO until its planner lands: direct light only
+    default:  // DIRECT (AUTO renders with the explicit method of its plan: auto_plan.h)
       break;
   }
   return plan;

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "auto_plan.h"
 #include "error.h"
 #include "sampling.h"
 
@@ -47,6 +49,53 @@ void Renderer::bind_emitter_occluders(const std::vector<EmitterOccluder>& occlud
 
 bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks) {
   scene_.prepare();
+  AutoPlan plan{settings, {}, ""};
+  if (settings.method == BOUNCE_METHOD_AUTO) plan = plan_auto(settings, analysis(settings, camera));
+  RenderCallbacks annotated = callbacks;
+  annotated.publish = [&](std::shared_ptr<Frame> frame) {
+    frame->info.method = plan.settings.method;
+    std::snprintf(frame->info.plan, sizeof frame->info.plan, "%s", plan.summary.c_str());
+    frame->info.shares = plan.shares;
+    callbacks.publish(std::move(frame));
+  };
+  return render_method(plan.settings, camera, annotated);
+}
+
+const cpu::SceneAnalysis& Renderer::analysis(const BounceSettings& settings, const BounceCamera& camera) {
+  cpu_scene_.sync(scene_);
+  const glm::mat4 world_to_view = glm::make_mat4(camera.world_to_view);
+  const glm::mat4 view_to_world = glm::inverse(world_to_view);
+  const AnalysisKey key{scene_.geometry_version(), scene_.light_version(), scene_.world_version(),
+                        glm::vec3(view_to_world[3]), -glm::normalize(glm::vec3(view_to_world[2]))};
+  constexpr float kMoved = 0.05f;          // of the scene's radius
+  constexpr float kTurnedCosine = 0.985f;  // 10 degrees
+  const AnalysisKey& old = analysis_key_;
+  const bool same_scene = key.geometry == old.geometry && key.lights == old.lights && key.world == old.world;
+  if (same_scene && glm::distance(key.eye, old.eye) <= kMoved * cpu_scene_.radius() &&
+      glm::dot(key.forward, old.forward) >= kTurnedCosine) {
+    analysis_.milliseconds = 0.0;  // kept: it cost this render nothing
+    return analysis_;
+  }
+  analysis_key_ = key;
+  // The world's and the emitters' light from more directions and triangles than a sample draws: the analysis
+  // measures their share once, whatever the settings.
+  constexpr int kAnalysisSourceLights = 64;
+  BounceSettings probe_settings = settings;
+  probe_settings.world_lights = kAnalysisSourceLights;
+  probe_settings.emission_lights = kAnalysisSourceLights;
+  const uint32_t seed = hash_combine(static_cast<uint32_t>(settings.seed), static_cast<uint32_t>(camera.frame));
+  const std::vector<BounceLight>& lights = scene_lights_.sample(scene_, probe_settings, 0, seed);
+  const BounceWorld& world = scene_.world();
+  const cpu::AnalysisView view{world_to_view, glm::make_mat4(camera.projection),
+                               float(std::max(camera.width, 1)) / float(std::max(camera.height, 1)),
+                               !world.transparent && !world.camera_hidden};
+  analysis_ = cpu::analyse_scene(cpu_scene_, {lights, scene_lights_.lamp_count(), scene_lights_.world_count()}, view,
+                                 WorldRadiance(world, scene_.texture_data(world.environment_texture)), seed);
+  return analysis_;
+}
+
+bool Renderer::render_method(const BounceSettings& settings, const BounceCamera& camera,
+                             const RenderCallbacks& callbacks) {
   const FramePlan plan = plan_frame(settings);
   if (plan.indirect == FramePlan::Indirect::Topology)
     return topology_.render(scene_, scene_lights_, settings, camera, callbacks, timer_);

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "bounce/bounce.h"
+#include "cpu/scene_analysis.h"
 #include "cpu/topology_renderer.h"
 #include "frame.h"
 #include "frame_plan.h"
@@ -40,10 +41,15 @@ class Renderer {
   GpuScene& scene() { return scene_; }
   // The topology the last TOPOLOGY render used; nullptr before one.
   std::shared_ptr<const topology::Topology> topology() const { return topology_.topology(); }
-  // Returns false when cancelled.
+  // Returns false when cancelled. Method AUTO renders with plan_auto's choice for the scene seen from `camera`.
   bool render(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks);
 
  private:
+  // The explicit methods.
+  bool render_method(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks);
+  // The scene's analysis from `camera`, redone when the scene changed or the camera moved or turned noticeably
+  // (navigating the viewport keeps the plan, so the image does not switch methods at every step).
+  const cpu::SceneAnalysis& analysis(const BounceSettings& settings, const BounceCamera& camera);
   // Uploads and binds shaders/common/emitter_occluders.glsl's buffer: a count, then the occluders.
   void bind_emitter_occluders(const std::vector<EmitterOccluder>& occluders);
 
@@ -64,6 +70,11 @@ class Renderer {
   SsvpPass ssvp_;
   ComposePass compose_;
   cpu::TopologyRenderer topology_{cpu_scene_};
+  struct AnalysisKey {
+    uint64_t geometry = 0, lights = 0, world = 0;
+    glm::vec3 eye{0.0f}, forward{0.0f};
+  } analysis_key_;
+  cpu::SceneAnalysis analysis_;
 };
 
 }  // namespace bounce

@@ -1,6 +1,7 @@
 // Deterministic sample sequences shared by the render passes (host side); tested in tests/native.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -48,6 +49,15 @@ inline glm::vec2 concentric_disk(glm::vec2 u) {
 inline glm::vec3 uniform_triangle_point(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec2 u) {
   const float s = std::sqrt(u.x);
   return (1.0f - s) * a + s * (1.0f - u.y) * b + s * u.y * c;
+}
+
+// A unit direction around unit normal n, cosine-distributed (pdf cos / pi), from u1, u2 in [0, 1).
+inline glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
+  glm::vec3 t = std::abs(n.x) > 0.9f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
+  t = glm::normalize(glm::cross(n, t));
+  const glm::vec3 b = glm::cross(n, t);
+  const float r = std::sqrt(u1), phi = 6.28318530717959f * u2;
+  return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
 }
 
 }  // namespace bounce

@@ -223,6 +223,7 @@ const std::vector<BounceLight>& SceneLights::sample(const GpuScene& scene, const
   lights_ = scene.lamps();
   lamp_count_ = lights_.size();
   add_world(settings, sample, seed);
+  world_count_ = lights_.size() - lamp_count_;
   add_emitters(settings, sample, seed);
   // The range policy of the caller's lights (scene_data.h) holds for these too: a 1e30 emitter drawn with a small
   // probability would overflow float32.

@@ -54,6 +54,8 @@ class SceneLights {
                                          uint32_t seed);
   // How many lights of the list are the caller's lamps.
   std::size_t lamp_count() const { return lamp_count_; }
+  // How many follow the lamps as the world's directions; the emissive triangles come after them.
+  std::size_t world_count() const { return world_count_; }
   // The emissive triangles among this sample's lights, as occluders.
   const std::vector<EmitterOccluder>& emitter_occluders() const { return occluders_; }
 
@@ -79,7 +81,7 @@ class SceneLights {
   glm::mat3 environment_to_world_{1.0f};
   std::vector<BounceLight> lights_;
   std::vector<EmitterOccluder> occluders_;
-  std::size_t lamp_count_ = 0;
+  std::size_t lamp_count_ = 0, world_count_ = 0;
 };
 
 }  // namespace bounce

@@ -34,7 +34,7 @@ def cornell_passes(blender, cornell_blend, out_root):
     out = out_root / "passes"
     out.mkdir(parents=True, exist_ok=True)
     cfg = {"out": str(out / "cornell"), "engine": "BOUNCE", "info": str(out / "cornell.json"),
-           "bounce": {"samples": 8, "shadow_map_size": 512}}  # everything else: the add-on's defaults
+           "bounce": {"method": "DIRECT", "samples": 8, "shadow_map_size": 512}}  # else the add-on's defaults
     (out / "config.json").write_text(json.dumps(cfg))
     blender.script("render.py", [out / "config.json"], blend=cornell_blend, name="passes-cornell")
     return read_exr(json.loads((out / "cornell.json").read_text())["exr"])

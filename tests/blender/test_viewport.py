@@ -30,7 +30,7 @@ def read_png(path):
     return pixels.reshape(image.spec().height, image.spec().width, -1)
 
 
-@pytest.fixture(scope="module", params=["FLC", "SSVP", "TOPOLOGY"])
+@pytest.fixture(scope="module", params=["AUTO", "FLC", "SSVP", "TOPOLOGY"])
 def viewport_run(blender, out_root, request):
     if shutil.which("xvfb-run") is None and not CHROOT:
         pytest.skip("xvfb-run is not installed (package xvfb)")
@@ -83,6 +83,20 @@ def test_viewport_draws_the_engine_frame(viewport_run):
     record(f"viewport.{out.name}.p99_abs_difference_8bit", float(np.percentile(difference, 99)))
     assert float(np.percentile(expected, 90)) > 0.2, "the engine frame is (nearly) black"
     assert difference.mean() < 1.5 and np.percentile(difference, 99) < 4.0
+
+
+def test_auto_plans_in_the_viewport(viewport_run):
+    """The demo's Cornell box under Auto: the viewport renders its plan (both bounces) and the Render panel's
+    plan box has it; an explicit method has no plan."""
+    out, result, _capture = viewport_run
+    plan = result["plan"]
+    if out.name != "viewport-auto":
+        assert plan["text"] == ""
+        return
+    record("viewport.auto.plan", plan["text"])
+    assert plan["method"] == 3, plan  # Screen-Space VPL Propagation
+    assert "First bounce" in plan["text"] and "and second" in plan["text"], plan
+    assert plan["shown"]["where"] == "viewport" and plan["shown"]["text"] == plan["text"]
 
 
 def test_moving_a_light_or_an_object_does_not_reexport_geometry(viewport_run):

@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 7
+#define BOUNCE_API_VERSION 8
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,
@@ -269,8 +269,9 @@ typedef enum BounceAov {
 BOUNCE_API int32_t bounce_aov_channels(int32_t aov); /* 4, 3 or 1; 0 for an unknown AOV */
 BOUNCE_API const char* bounce_aov_name(int32_t aov); /* "Combined", "Direct", ... */
 /* The AOVs a method writes, as bits 1 << aov: every method writes Combined, Direct, Emission, Albedo, Normal and
- * Depth; FLC and SSVP add Indirect and VPLs, SSVP Second Bounce, TOPOLOGY Indirect and Topology. A frame holds these
- * only (large frames need the memory); bounce_frame_read returns zeros for the others. */
+ * Depth; FLC and SSVP add Indirect and VPLs, SSVP Second Bounce, TOPOLOGY Indirect and Topology, AUTO Indirect and
+ * Second Bounce (zero where its plan has none). A frame holds these only (large frames need the memory);
+ * bounce_frame_read returns zeros for the others. */
 BOUNCE_API uint32_t bounce_method_aovs(int32_t method);
 
 /* Starts a render of settings->samples progressive samples (copied) in the background. A render already
@@ -310,6 +311,21 @@ typedef struct BounceStageTime {
   double cpu_ms; /* wall time on the render thread */
 } BounceStageTime;
 
+/* What AUTO's scene analysis found (native/src/cpu/scene_analysis.h): each component's estimated share of the
+ * image the camera sees (the image's mean luminance; the shares and what the camera sees of emissive surfaces and
+ * of the world add up to 1). Index 0 lamps, 1 the world, 2 emissive surfaces. */
+typedef struct BounceLightShares {
+  float direct[3];
+  float first_bounce[3];
+  float second_bounce;   /* every source */
+  float emission_seen;   /* emissive surfaces in view */
+  float background_seen; /* the world in view */
+  float mean_albedo;     /* luminance of the albedo of the surfaces in view */
+  float openness;        /* of the light paths leaving the surfaces in view, the share that escapes to the world */
+  float analysis_ms;     /* what the analysis cost, when it ran for this render (it is kept while the scene and the
+                            view stay put) */
+} BounceLightShares;
+
 typedef struct BounceFrameInfo {
   int32_t width, height; /* size of the published frame (the crop, if any) */
   int32_t samples;       /* samples averaged in it */
@@ -323,6 +339,9 @@ typedef struct BounceFrameInfo {
                                    by its flux), as its index in bounce_lights_set's list; -1: none, or the world or
                                    an emissive surface */
   int32_t cluster_count;        /* SSVP: k-means clusters of the last sample; TOPOLOGY: visibility clusters */
+  int32_t method;               /* the method that rendered the frame (AUTO's choice; never AUTO) */
+  char plan[512];               /* AUTO: what it simulated and left out, and why, in a few sentences; "" otherwise */
+  BounceLightShares shares;     /* AUTO: the analysis the plan came from; zeros otherwise */
 } BounceFrameInfo;
 
 /* The most recently published frame: after each progressive sample of a render (viewport) and at its end.

@@ -15,6 +15,7 @@
 #include <glm/matrix.hpp>
 
 #include "common/parallel.h"
+#include "cpu/camera_ray.h"
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
 #include "sampling.h"
@@ -427,18 +428,11 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
           v = ViewSample{};
           const double ndc_x = (x0 + column + 0.5 + jitter.x) / camera.width * 2.0 - 1.0;
           const double ndc_y = (y0 + double(row) + 0.5 + jitter.y) / camera.height * 2.0 - 1.0;
-          const glm::dvec4 near = clip_to_world * glm::dvec4(ndc_x, ndc_y, -1.0, 1.0);
-          const glm::dvec4 far = clip_to_world * glm::dvec4(ndc_x, ndc_y, 1.0, 1.0);
-          const glm::dvec3 origin = glm::dvec3(near) / near.w;
-          glm::dvec3 dir = std::abs(far.w) > 1e-12 * std::abs(near.w) ? glm::dvec3(far) / far.w - origin
-                                                                      : glm::dvec3(far);  // infinite far plane
-          const double tmax =
-              std::abs(far.w) > 1e-12 * std::abs(near.w) ? glm::length(dir) : std::numeric_limits<double>::infinity();
-          dir = glm::normalize(dir);
-          v.origin = glm::vec3(origin);
-          v.direction = glm::vec3(dir);
+          const CameraRay ray = camera_ray(clip_to_world, ndc_x, ndc_y);
+          v.origin = ray.origin;
+          v.direction = ray.direction;
           if (!std::isfinite(v.origin.x) || !std::isfinite(v.direction.x)) continue;
-          const auto hit = scene_.intersect(v.origin, v.direction, 0.0f, static_cast<float>(tmax));
+          const auto hit = scene_.intersect(v.origin, v.direction, 0.0f, ray.tmax);
           if (!hit) continue;
           v.hit = true;
           v.t = hit->t;

@@ -19,20 +19,6 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 enum Purpose : uint64_t { kVplPaths = 11 };
 
-// Any unit vector orthogonal to n, then the third axis: a frame around n.
-void frame(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
-  t = std::abs(n.x) > 0.9f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
-  t = glm::normalize(glm::cross(n, t));
-  b = glm::cross(n, t);
-}
-
-glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
-  glm::vec3 t, b;
-  frame(n, t, b);
-  const float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
-  return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
-}
-
 glm::vec3 sphere_direction(float u1, float u2) {
   const float z = 1.0f - 2.0f * u1, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u2;
   return {r * std::cos(phi), r * std::sin(phi), z};

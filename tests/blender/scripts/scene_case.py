@@ -280,6 +280,39 @@ def case_emitter_1e9(scene):
                  (3, 1, 1)], [(0, 3, 2, 1), (4, 5, 6), (4, 4, 5)], mat)
 
 
+def room(scene, albedo):
+    """Auto: a closed 4 m room of grey `albedo` lit by a 100 W point light under its ceiling, seen from inside."""
+    base(scene, ground=False, light=False)
+    cube_mesh(scene, "Room", 4.0, (0.0, 0.0, 2.0), bc.diffuse_material("Walls", (albedo, albedo, albedo)))
+    add_point_light(scene, 100.0, (0.5, 0.5, 3.5))
+    camera = scene.camera
+    camera.location = (0.0, -1.8, 1.5)
+    camera.rotation_euler = (math.radians(80.0), 0.0, 0.0)
+
+
+def case_auto_white_room(scene):
+    """Each bounce adds 0.8 of the last: both bounces are simulated."""
+    room(scene, 0.8)
+
+
+def case_auto_grey_room(scene):
+    """Albedo 0.05: the first bounce is about 7 % of the image, the second under 1 %: one bounce."""
+    room(scene, 0.05)
+
+
+def case_auto_black_room(scene):
+    """Albedo 0.005: bounces add 0.5 %, below the 1 % threshold: direct light only."""
+    room(scene, 0.005)
+
+
+def case_auto_dim_world(scene):
+    """The lit ground under a sky of radiance 1e-4: the world gives far less than 1 % and is left out."""
+    base(scene)
+    background = next(n for n in scene.world.node_tree.nodes if n.type == "BACKGROUND")
+    background.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    background.inputs["Strength"].default_value = 1e-4
+
+
 def main():
     case, out = bc.args()[:2]
     method = bc.args()[2] if len(bc.args()) > 2 else "DIRECT"

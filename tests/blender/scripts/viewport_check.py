@@ -110,6 +110,8 @@ def step_capture():
     result["frame"] = {"width": info.width, "height": info.height, "samples": info.samples}
     result["stats_first"] = stats()
     result["first_serial"] = info.serial
+    result["plan"] = {"method": info.method, "text": info.plan(),
+                      "shown": dict(bl_common.addon_module("final").last_plan)}
     return True
 
 

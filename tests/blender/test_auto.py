@@ -1,0 +1,45 @@
+"""Auto (the default method) in F12-style renders: it simulates the bounces a scene's albedo calls for and the
+light sources that matter, says what it chose in the `blender -b` output, and writes Indirect and Second Bounce
+passes (black where the plan has no bounce). The analysis itself is checked against closed forms in
+tests/native/auto_plan_test.cpp."""
+import re
+
+import numpy as np
+import pytest
+
+from conftest import layer_pass, read_exr, record
+from test_hard_inputs import run_case
+
+# case: (method Auto chose, what its plan must say, Indirect's mean over Direct's: (low, high))
+CASES = {
+    # Each bounce adds 0.8 of the last: the bounces bring more light than the lamp directly.
+    "auto_white_room": ("Screen-Space VPL Propagation", r"First bounce \d+ % and second \d+ %", (0.8, 3.0)),
+    "auto_grey_room": ("Screen-Space VPL Propagation", r"Second bounce 0\.\d %: skipped \(below 1\.0 %\)",
+                       (0.03, 0.15)),
+    "auto_black_room": ("Direct", r"Bounces 0\.\d %: skipped \(below 1\.0 %\)", (0.0, 0.0)),
+    "auto_dim_world": (None, r"World 0\.0 %: skipped \(below 1\.0 %\)", None),
+}
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_auto_plans_what_the_scene_calls_for(case, blender, out_dir):
+    method, pattern, indirect_range = CASES[case]
+    result, info = run_case(blender, case, out_dir, "AUTO")
+    plans = re.findall(r"^Bounce: Auto: (.+?): (.+)$", result.output, re.M)
+    assert len(plans) == 1, f"one plan line expected\n{result.describe()}"
+    chosen, plan = plans[0]
+    print(f"{case}: {chosen}: {plan}")
+    record(f"auto.{case}.plan", plan)
+    if method:
+        assert chosen == method, plan
+    assert re.search(pattern, plan), plan
+    channels = read_exr(info["exr"])
+    for name in ("Indirect", "Second Bounce"):
+        assert np.all(np.isfinite(layer_pass(channels, name))), f"{name} is not finite"
+    if indirect_range is None:
+        return
+    direct = float(layer_pass(channels, "Direct").mean())
+    indirect = float(layer_pass(channels, "Indirect").mean())
+    record(f"auto.{case}.indirect_over_direct", round(indirect / direct, 4))
+    low, high = indirect_range
+    assert low <= indirect / direct <= high, f"Indirect {indirect:.4g} over Direct {direct:.4g}; {plan}"

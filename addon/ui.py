@@ -193,17 +193,23 @@ def _settings_panel(group, rows, order):
             _draw_row(layout, props, row)
         extra = GROUP_EXTRAS.get(group)
         if extra is not None:
-            extra(layout, props)
+            extra(layout, props, context)
 
     slug = "".join(c if c.isalnum() else "_" for c in group.lower())
     return type(f"BOUNCE_PT_settings_{slug}", (BouncePanel, bpy.types.Panel),
                 {"bl_label": group, "bl_order": order, "draw": draw})
 
 
-BAR_WIDTH = 20  # characters of a full share bar
+BAR_WIDTH = 10  # characters of a full share bar
+BAR_GLYPH = "\u2588"
 
 
-def _draw_auto_plan(layout, props):
+def _chars_fitting(context):
+    """About how many characters of Blender's interface font fit across the region."""
+    return max(20, int(context.region.width / (9.0 * context.preferences.view.ui_scale)))
+
+
+def _draw_auto_plan(layout, props, context):
     """What Auto chose the last time it rendered, in words, and each component's share of the image as a bar."""
     if props.method != "AUTO":
         return
@@ -212,15 +218,16 @@ def _draw_auto_plan(layout, props):
     if not plan:
         box.label(text="Auto's plan shows here after a render", icon="INFO")
         return
-    box.label(text=f"{plan['method']} (last {plan['where']})", icon="LIGHT")
     col = box.column(align=True)
-    for line in _wrap(plan["text"], 60):
+    col.label(text=plan["method"], icon="LIGHT")
+    col.label(text=f"(last {plan['where']})")
+    col = box.column(align=True)
+    for line in _wrap(plan["text"], _chars_fitting(context)):
         col.label(text=line)
-    grid = box.grid_flow(row_major=True, columns=3, even_columns=False, align=True)
+    col = box.column(align=True)
     for label, share in plan["components"]:
-        grid.label(text=label)
-        grid.label(text=f"{100 * share:.1f} %")
-        grid.label(text="\u2588" * max(1, round(BAR_WIDTH * share)))
+        bar = BAR_GLYPH * max(1, round(BAR_WIDTH * share))
+        col.label(text=f"{bar} {100 * share:.1f} % {label}")
 
 
 # Drawn below a group's settings.

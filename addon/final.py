@@ -156,9 +156,9 @@ def _fit(pixels, src_width, src_height, width, height, channels):
     return out.reshape(-1, channels)
 
 
-def indirect_summary(info, light_names, method):
+def indirect_summary(info, light_names):
     """What the indirect method did in the frame's last sample, in a few words ('' when none ran)."""
-    if method == native.METHOD_TOPOLOGY:
+    if info.method == native.METHOD_TOPOLOGY:
         return f"Topology: {info.vpl_count:,} VPLs, {info.cluster_count} visibility clusters"
     if info.main_light >= 0:
         name = light_names[info.main_light] if info.main_light < len(light_names) else "?"
@@ -169,9 +169,14 @@ def indirect_summary(info, light_names, method):
 
 
 def auto_line(info):
-    """Auto's choice in a few words, e.g. "Auto: Screen-Space VPL Propagation, 2 bounces"."""
+    """Auto's choice in a few words, e.g. "Auto: Screen-Space VPL Propagation"."""
     method = native.METHOD_NAMES[info.method] if 0 <= info.method < len(native.METHOD_NAMES) else "?"
     return f"Auto: {method}"
+
+
+def method_text(info, indirect):
+    """The status line's part on the method: " | Auto: ... | <indirect summary>", each part when there is one."""
+    return "".join(f" | {text}" for text in (auto_line(info) if info.plan() else "", indirect) if text)
 
 
 def remember_plan(info, where):
@@ -187,9 +192,8 @@ def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
     stages = info.stage_list()
     # CPU stages (the topology method's) have no GPU time: their wall time stands in.
     stage_text = ", ".join(f"{name} {gpu_ms or cpu_ms:.1f} ms" for name, gpu_ms, cpu_ms in stages)
-    indirect = indirect_summary(info, sync_stats.last_light_names, info.method)
-    indirect_text = "".join(f" | {text}" for text in (auto_line(info) if info.plan() else "", indirect) if text)
-    engine.update_stats("", f"Bounce | {info.samples} samples{indirect_text} | {stage_text}")
+    indirect = indirect_summary(info, sync_stats.last_light_names)
+    engine.update_stats("", f"Bounce | {info.samples} samples{method_text(info, indirect)} | {stage_text}")
     if kind != session.FINAL:
         return
     remember_plan(info, "final render")

@@ -69,9 +69,8 @@ def _draw_latest_frame(engine, context, current):
         buffer = gpu.types.Buffer("FLOAT", flat.size, flat)  # wraps the numpy memory, no copy
         current.texture = gpu.types.GPUTexture((info.width, info.height), format="RGBA16F", data=buffer)
         current.texture_serial = info.serial
-        indirect = final.indirect_summary(info, current.scene.stats.last_light_names, info.method)
-        auto = final.auto_line(info) if info.plan() else ""
-        engine.update_stats("", f"Bounce | Sample {info.samples}" + "".join(f" | {t}" for t in (auto, indirect) if t))
+        indirect = final.indirect_summary(info, current.scene.stats.last_light_names)
+        engine.update_stats("", f"Bounce | Sample {info.samples}{final.method_text(info, indirect)}")
         final.remember_plan(info, "viewport")
     if current.texture is None:
         return

@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 8  # BOUNCE_API_VERSION this module was written against
+API_VERSION = 9  # BOUNCE_API_VERSION this module was written against
 
 LIBRARY_ENV = "BOUNCE_LIBRARY"
 LIBRARY_NAME = "libbounce.so"

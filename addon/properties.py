@@ -37,9 +37,11 @@ def _enum_items(row):
     return [(ident, label, tooltip, value) for value, (ident, label, tooltip) in enumerate(row["items"])]
 
 
-def _property(row, label, description):
-    """A bpy.props definition for one table row."""
+def _property(row, label, description, default_key="default"):
+    """A bpy.props definition for one table row, with the default under `default_key` ("viewport_default" for the
+    `viewport_` variant)."""
     kind = row["kind"]
+    row = dict(row, default=row.get(default_key, row["default"]))
     common = {"name": label, "description": description}
     if kind == "ENUM":
         items = _enum_items(row)
@@ -64,7 +66,7 @@ def _annotations(table):
         annotations[row["name"]] = _property(row, row["label"], row["description"])
         if has_viewport_variant(row):
             annotations[VIEWPORT_PREFIX + row["name"]] = _property(
-                row, "Viewport " + row["label"], row["description"] + " (viewport)")
+                row, "Viewport " + row["label"], row["description"] + " (viewport)", "viewport_default")
     return annotations
 
 

@@ -148,7 +148,7 @@ GROUP_NOTES = {
 
 
 # Methods each setting applies to, where not every method reads it: the row is greyed out for the others.
-ROW_METHODS = {"bounces": {"SSVP", "TOPOLOGY"}, "auto_threshold": {"AUTO"}}
+ROW_METHODS = {"bounces": {"SSVP", "TOPOLOGY"}, "auto_threshold": {"AUTO"}, "sample_budget": {"AUTO"}}
 # Settings whose value a method caps below the property's maximum: (method, cap, note).
 ROW_CAPS = {"bounces": ("SSVP", 2, "Screen-Space VPL Propagation simulates 2 bounces at most")}
 

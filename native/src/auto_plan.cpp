@@ -1,7 +1,9 @@
 #include "auto_plan.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 namespace bounce {
@@ -13,16 +15,72 @@ std::string percent(double share) {
   return text;
 }
 
+std::string milliseconds(double ms) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.0f ms", ms);
+  return text;
+}
+
 std::string join(const std::vector<std::string>& parts, const char* separator) {
   std::string out;
   for (const std::string& part : parts) out += (out.empty() ? "" : separator) + part;
   return out;
 }
 
+// The fewest first-bounce VPLs worth a bounce under a budget (SSVP's importance resampling keeps a few per
+// cluster), and the most a budget may buy (the setting's soft maximum).
+constexpr int kFewestVpls = 16;
+constexpr int kMostVpls = 2048;
+
+double sample_budget(const BounceSettings& settings) {
+  double budget = settings.sample_budget;
+  if (settings.time_limit > 0.0f) {
+    const double share = 1000.0 * settings.time_limit / std::max(settings.samples, 1);
+    budget = budget > 0.0 ? std::min(budget, share) : share;
+  }
+  return budget;
+}
+
+// Fits `out` (an SSVP or DIRECT plan) into `budget` ms per sample: the first-bounce VPLs that fill it, else one
+// bounce fewer, down to direct light. Returns the sentence that says how.
+std::string fit_budget(BounceSettings& out, double budget, const CostModel& costs, int64_t pixels,
+                       double& estimated_ms) {
+  const std::string head = "Budget " + milliseconds(budget) + " per sample";
+  std::vector<std::string> dropped;
+  while (true) {
+    const std::optional<SampleCost> cost = costs.predict(out.method, out.bounces, pixels);
+    if (!cost) {
+      dropped.push_back("cost not measured yet");
+      return head + ": " + join(dropped, ", ");
+    }
+    if (out.method == BOUNCE_METHOD_DIRECT) {
+      estimated_ms = cost->at(0);
+      dropped.push_back("direct light " + milliseconds(estimated_ms));
+      return head + ": " + join(dropped, ", ");
+    }
+    const double vpls = cost->per_vpl_ms > 0.0     ? (budget - cost->fixed_ms) / cost->per_vpl_ms
+                        : cost->fixed_ms <= budget ? double(out.ssvp_vpls)
+                                                   : 0.0;
+    if (vpls >= kFewestVpls) {
+      out.ssvp_vpls = int32_t(std::min(vpls, double(kMostVpls)));
+      estimated_ms = cost->at(out.ssvp_vpls);
+      dropped.push_back(std::to_string(out.ssvp_vpls) + " first-bounce VPLs, " + milliseconds(estimated_ms));
+      return head + ": " + join(dropped, ", ");
+    }
+    dropped.push_back((out.bounces >= 2 ? "second bounce dropped (" : "bounces dropped (") +
+                      milliseconds(cost->at(kFewestVpls)) + ")");
+    if (out.bounces >= 2)
+      out.bounces = 1;
+    else
+      out.method = BOUNCE_METHOD_DIRECT;
+  }
+}
+
 }  // namespace
 
-AutoPlan plan_auto(const BounceSettings& settings, const cpu::SceneAnalysis& analysis) {
-  AutoPlan plan{settings, {}, ""};
+AutoPlan plan_auto(const BounceSettings& settings, const cpu::SceneAnalysis& analysis, const CostModel& costs,
+                   int64_t pixels) {
+  AutoPlan plan{settings, {}, 0.0, 0.0, ""};
   BounceSettings& out = plan.settings;
   const double threshold = settings.auto_threshold;
   const std::string below = " (below " + percent(threshold) + ")";
@@ -67,6 +125,14 @@ AutoPlan plan_auto(const BounceSettings& settings, const cpu::SceneAnalysis& ana
       sentences.push_back("Second bounce " + percent(second) + ": skipped" + below);
     }
   }
+  // Time saved by what was skipped, where the model has measured the fuller plan.
+  if (out.method == BOUNCE_METHOD_SSVP && out.bounces == 1 && settings.bounces >= 2) {
+    const auto one = costs.predict(BOUNCE_METHOD_SSVP, 1, pixels), two = costs.predict(BOUNCE_METHOD_SSVP, 2, pixels);
+    if (one && two && second < threshold)
+      sentences.back() += ", saving " + milliseconds(two->at(out.ssvp_vpls) - one->at(out.ssvp_vpls)) + " a sample";
+  }
+  plan.budget_ms = sample_budget(settings);
+  if (plan.budget_ms > 0.0) sentences.push_back(fit_budget(out, plan.budget_ms, costs, pixels, plan.estimated_ms));
   plan.summary = join(sentences, ". ") + ".";
   BounceLightShares& shares = plan.shares;
   for (int c = 0; c < cpu::kLightSourceCount; ++c) {

@@ -39,6 +39,12 @@ struct Frame {
       if (holds(aov)) aovs[aov].assign(std::size_t(w) * h * bounce_aov_channels(aov), 0.0f);
   }
   bool holds(int aov) const { return (held >> aov) & 1u; }
+  // Scales the AOVs that average their samples (all but Depth, the nearest of them).
+  void scale(float factor) {
+    for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
+      if (aov != BOUNCE_AOV_DEPTH)
+        for (float& value : aovs[aov]) value *= factor;
+  }
 
   // Sets every AOV value of a pixel whose channels are not all finite to zero; returns how many pixels had one
   // (counted once however many of their AOVs did: the count is of the image's pixels).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -9,6 +10,7 @@
 #include "auto_plan.h"
 #include "error.h"
 #include "sampling.h"
+#include "time_limit.h"
 
 namespace bounce {
 
@@ -49,16 +51,34 @@ void Renderer::bind_emitter_occluders(const std::vector<EmitterOccluder>& occlud
 
 bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera, const RenderCallbacks& callbacks) {
   scene_.prepare();
-  AutoPlan plan{settings, {}, ""};
-  if (settings.method == BOUNCE_METHOD_AUTO) plan = plan_auto(settings, analysis(settings, camera));
+  const bool cropped = camera.crop[2] > camera.crop[0] && camera.crop[3] > camera.crop[1];
+  const int64_t pixels = cropped ? int64_t(camera.crop[2] - camera.crop[0]) * (camera.crop[3] - camera.crop[1])
+                                 : int64_t(camera.width) * camera.height;
+  AutoPlan plan{settings, {}, 0.0, 0.0, ""};
+  if (settings.method == BOUNCE_METHOD_AUTO)
+    plan = plan_auto(settings, analysis(settings, camera), CostModel::shared(), pixels);
+  // Every frame published teaches the cost model, whichever method it had, a cancelled render's too (the viewport
+  // restarts while one navigates): the share of the first-bounce VPLs' stages (importance sampling, shading) in the
+  // stage timer's total splits its time.
+  const auto started = std::chrono::steady_clock::now();
+  double sample_ms = 0.0, vpl_share = 0.0;
   RenderCallbacks annotated = callbacks;
   annotated.publish = [&](std::shared_ptr<Frame> frame) {
+    sample_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count() /
+                std::max(frame->info.samples, 1);
+    const double total_ms = timer_.total_milliseconds();
+    vpl_share = total_ms > 0.0
+                    ? (timer_.milliseconds(Stage::SsvpImportance) + timer_.milliseconds(Stage::SsvpShade)) / total_ms
+                    : 0.0;
     frame->info.method = plan.settings.method;
-    std::snprintf(frame->info.plan, sizeof frame->info.plan, "%s", plan.summary.c_str());
+    const std::string used = plan.budget_ms > 0.0 ? " Used " + std::to_string(std::lround(sample_ms)) + " ms." : "";
+    std::snprintf(frame->info.plan, sizeof frame->info.plan, "%s", (plan.summary + used).c_str());
     frame->info.shares = plan.shares;
     callbacks.publish(std::move(frame));
   };
-  return render_method(plan.settings, camera, annotated);
+  const bool finished = render_method(plan.settings, camera, annotated);
+  if (sample_ms > 0.0) CostModel::shared().observe(plan.settings, pixels, sample_ms, vpl_share);
+  return finished;
 }
 
 const cpu::SceneAnalysis& Renderer::analysis(const BounceSettings& settings, const BounceCamera& camera) {
@@ -184,6 +204,8 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   // Samples outside, tiles inside: what a sample computes whatever the view (shadow maps, Forward Light Cuts'
   // VPLs) is computed once and shared by its tiles. ShadowPass keeps each light's map until the sample changes.
   if (!tiles_take_turns) compose_.clear(tiles[0].width, tiles[0].height);
+  const TimeLimit time_limit(settings.time_limit);
+  int samples_done = samples;
   for (int s = 0; s < samples; ++s) {
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
@@ -232,6 +254,10 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       callbacks.progress(s + 1, static_cast<float>(done) / static_cast<float>(total_steps));
     }
 
+    if (!time_limit.another_fits(s + 1)) {
+      samples_done = s + 1;
+      break;
+    }
     const bool last = s + 1 == samples;
     const auto now = std::chrono::steady_clock::now();
     if (!tiles_take_turns && !last && (s == 0 || now - last_publish >= kProgressivePublishInterval)) {
@@ -244,8 +270,11 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       last_publish = std::chrono::steady_clock::now();
     }
   }
-  if (!tiles_take_turns) read_tile(*frame, tiles[0], samples, ComposePass::Into::Replace);
-  finish_info(*frame, samples);
+  if (tiles_take_turns)
+    frame->scale(float(samples) / float(samples_done));  // the tiles were added in as 1/samples of each sample
+  else
+    read_tile(*frame, tiles[0], samples_done, ComposePass::Into::Replace);
+  finish_info(*frame, samples_done);
   frame->info.nonfinite_pixels = frame->zero_nonfinite();
   callbacks.publish(frame);
   return true;

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "bounce/bounce.h"
+#include "cost_model.h"
 #include "cpu/scene_analysis.h"
 #include "cpu/topology_renderer.h"
 #include "frame.h"

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <string_view>
 
 #include "error.h"
 
@@ -58,6 +59,17 @@ std::string json_number(T value) {
   return s.str();
 }
 
+// The default of a setting's `viewport_` variant (BOUNCE_VIEWPORT_DEFAULT), else `final_default`.
+double viewport_default(std::string_view name, double final_default) {
+#define BOUNCE_SETTING(ctype, glsl_type, kind, setting, label, def, min, max, smin, smax, flags, group, items, desc)
+#define BOUNCE_VIEWPORT_DEFAULT(setting, def) \
+  if (name == #setting) return def;
+#include "bounce/settings.def"
+#undef BOUNCE_VIEWPORT_DEFAULT
+#undef BOUNCE_SETTING
+  return final_default;
+}
+
 }  // namespace
 
 BounceSettings default_settings() {
@@ -88,7 +100,8 @@ const std::string& settings_table_json() {
   out += first ? "\n" : ",\n";                                                                                        \
   first = false;                                                                                                      \
   out += "{\"name\":\"" #name "\",\"type\":\"" #ctype "\",\"kind\":\"" #kind "\",\"label\":\"" + json_escape(label) + \
-         "\",\"default\":" + json_number(static_cast<ctype>(def)) +                                                   \
+         "\",\"default\":" + json_number(static_cast<ctype>(def)) + ",\"viewport_default\":" +                        \
+         json_number(static_cast<ctype>(viewport_default(#name, static_cast<double>(def)))) +                         \
          ",\"min\":" + json_number(static_cast<ctype>(min)) + ",\"max\":" + json_number(static_cast<ctype>(max)) +    \
          ",\"soft_min\":" + json_number(static_cast<ctype>(smin)) +                                                   \
          ",\"soft_max\":" + json_number(static_cast<ctype>(smax)) + ",\"flags\":" + json_number(flags) +              \

@@ -1,5 +1,6 @@
 #include "stage_timer.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace bounce {
@@ -111,6 +112,17 @@ void StageTimer::fill(BounceFrameInfo& info) const {
     out.gpu_ms = gpu_ms_[i];
     out.cpu_ms = cpu_ms_[i];
   }
+}
+
+double StageTimer::milliseconds(Stage stage) const {
+  const auto i = static_cast<std::size_t>(stage);
+  return std::max(gpu_ms_[i], cpu_ms_[i]);
+}
+
+double StageTimer::total_milliseconds() const {
+  double total = 0.0;
+  for (int i = 0; i < static_cast<int>(Stage::Count); ++i) total += milliseconds(static_cast<Stage>(i));
+  return total;
 }
 
 }  // namespace bounce

@@ -48,6 +48,9 @@ class StageTimer {
   void resolve();  // waits for the queries issued since the last resolve and adds them up
   void reset();
   void fill(BounceFrameInfo& info) const;
+  // A stage's time since the last reset: its GPU time, or its render-thread time where that is longer (CPU stages).
+  double milliseconds(Stage stage) const;
+  double total_milliseconds() const;  // of every stage
 
  private:
   struct Pending {

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 
+#include "auto_plan.h"
 #include "render_fixture.h"
 
 namespace bounce::test {
@@ -80,6 +82,113 @@ TEST_F(AutoPlan, ExplicitMethodsHaveNoPlan) {
   EXPECT_EQ(info.method, BOUNCE_METHOD_FLC);
   EXPECT_STREQ(info.plan, "");
   EXPECT_EQ(info.shares.direct[0], 0.0f);
+}
+
+// The cost model splits a sample's time by the share of the VPL stages until frames of two VPL counts give a
+// line, and scales with the pixels.
+TEST(CostModel, SplitsTheSampleTimeAndScalesWithPixels) {
+  CostModel costs;
+  BounceSettings settings{};
+  settings.method = BOUNCE_METHOD_SSVP;
+  settings.bounces = 2;
+  settings.ssvp_vpls = 250;
+  EXPECT_FALSE(costs.predict(BOUNCE_METHOD_SSVP, 2, 1000));
+  costs.observe(settings, 1000, 100.0, 0.5);
+  const std::optional<SampleCost> cost = costs.predict(BOUNCE_METHOD_SSVP, 2, 2000);
+  ASSERT_TRUE(cost);
+  EXPECT_NEAR(cost->fixed_ms, 100.0, 1e-9);
+  EXPECT_NEAR(cost->per_vpl_ms, 0.4, 1e-9);
+  EXPECT_NEAR(cost->at(250), 200.0, 1e-9);
+  EXPECT_FALSE(costs.predict(BOUNCE_METHOD_SSVP, 1, 1000));  // one bounce is another plan
+  costs.observe(settings, 1000, 200.0, 0.5);                 // the scene got slower: the mean of the last frames
+  EXPECT_NEAR(costs.predict(BOUNCE_METHOD_SSVP, 2, 1000)->at(250), 150.0, 1e-9);
+
+  CostModel line;  // frames of two VPL counts: the line through them, whatever the stages said
+  line.observe(settings, 1000, 100.0, 0.9);
+  settings.ssvp_vpls = 500;
+  line.observe(settings, 1000, 150.0, 0.9);
+  EXPECT_NEAR(line.predict(BOUNCE_METHOD_SSVP, 2, 1000)->fixed_ms, 50.0, 1e-9);
+  EXPECT_NEAR(line.predict(BOUNCE_METHOD_SSVP, 2, 1000)->per_vpl_ms, 0.2, 1e-9);
+}
+
+// A budget buys the VPLs that fill it; below the fixed cost of the second bounce, one bounce; below that of the
+// first, direct light; a plan not measured yet renders as it is.
+TEST(CostModel, PlanFitsTheBudget) {
+  cpu::SceneAnalysis analysis{};
+  analysis.direct[0] = 0.5;
+  analysis.first_bounce[0] = 0.3;
+  analysis.second_bounce = 0.2;
+  BounceSettings settings{};
+  settings.method = BOUNCE_METHOD_AUTO;
+  settings.auto_threshold = 0.01f;
+  settings.bounces = 2;
+  settings.samples = 4;
+  settings.ssvp_vpls = 256;
+  settings.sample_budget = 150.0f;
+  CostModel costs;
+  BounceSettings measured = settings;
+  measured.method = BOUNCE_METHOD_SSVP;
+  measured.ssvp_vpls = 100;
+  costs.observe(measured, 1, 120.0, 20.0 / 120.0);  // 100 ms + 0.2 ms per VPL
+  auto plan = plan_auto(settings, analysis, costs, 1);
+  EXPECT_EQ(plan.settings.bounces, 2);
+  EXPECT_EQ(plan.settings.ssvp_vpls, 250);
+  EXPECT_NEAR(plan.estimated_ms, 150.0, 1e-6);
+  EXPECT_NE(plan.summary.find("Budget 150 ms per sample: 250 first-bounce VPLs, 150 ms."), std::string::npos)
+      << plan.summary;
+
+  settings.sample_budget = 90.0f;
+  plan = plan_auto(settings, analysis, costs, 1);
+  EXPECT_EQ(plan.settings.bounces, 1);
+  EXPECT_EQ(plan.settings.method, BOUNCE_METHOD_SSVP);
+  EXPECT_NE(plan.summary.find("second bounce dropped (103 ms), cost not measured yet"), std::string::npos)
+      << plan.summary;
+
+  measured.bounces = 1;
+  costs.observe(measured, 1, 80.0, 20.0 / 80.0);  // 60 ms + 0.2 ms per VPL
+  measured.method = BOUNCE_METHOD_DIRECT;
+  costs.observe(measured, 1, 40.0, 0.0);
+  settings.sample_budget = 0.0f;
+  settings.time_limit = 0.2f;  // 50 ms for each of 4 samples
+  plan = plan_auto(settings, analysis, costs, 1);
+  EXPECT_EQ(plan.settings.method, BOUNCE_METHOD_DIRECT);
+  EXPECT_NEAR(plan.budget_ms, 50.0, 1e-4);
+  EXPECT_NE(plan.summary.find("second bounce dropped (103 ms), bounces dropped (63 ms), direct light 40 ms"),
+            std::string::npos)
+      << plan.summary;
+}
+
+// Through the engine: a frame under a budget is measured (if none of its plan was before), the next fits it.
+TEST_F(AutoPlan, SecondFrameFitsTheBudget) {
+  build_furnace();
+  settings_.sample_budget = 60000.0f;
+  BounceFrameInfo info = render_auto();
+  EXPECT_NE(std::string(info.plan).find(" Used "), std::string::npos) << info.plan;
+  info = render_auto();
+  EXPECT_NE(std::string(info.plan).find("2048 first-bounce VPLs"), std::string::npos) << info.plan;
+}
+
+// Time Limit: a limit shorter than a sample renders one, in one tile or several, and it is the first sample of a
+// longer render (Time Limit applies to every method; Auto also fits its samples into it).
+TEST_F(AutoPlan, TimeLimitStopsAfterTheSampleThatSpentIt) {
+  build_furnace();
+  camera_.width = camera_.height = 96;  // two tiles of 64 a side
+  settings_.ssvp_temporal_seeding = 0;  // else each render's k-means starts from the last one's clusters
+  for (auto [method, tile_size] : {std::pair{BOUNCE_METHOD_SSVP, 4096}, std::pair{BOUNCE_METHOD_SSVP, 64},
+                                   std::pair{BOUNCE_METHOD_TOPOLOGY, 4096}}) {
+    settings_.method = method;
+    settings_.tile_size = tile_size;
+    settings_.samples = 1;
+    settings_.time_limit = 0.0f;
+    const Image one = render(BOUNCE_AOV_COMBINED);
+    settings_.samples = 64;
+    settings_.time_limit = 1e-6f;
+    const Image limited = render(BOUNCE_AOV_COMBINED);
+    BounceFrameInfo info{};
+    ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+    EXPECT_EQ(info.samples, 1);
+    EXPECT_NEAR(mean_red(limited), mean_red(one), 1e-5 * mean_red(one)) << method << " " << tile_size;
+  }
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 8
+#define BOUNCE_API_VERSION 9
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,

@@ -19,6 +19,7 @@
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
 #include "sampling.h"
+#include "time_limit.h"
 
 namespace bounce::cpu {
 namespace {
@@ -415,6 +416,8 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
 
   auto last_publish = std::chrono::steady_clock::now();
   callbacks.status("", 0.5f);
+  const TimeLimit time_limit(settings.time_limit);
+  int samples_done = settings.samples;
   for (int s = 0; s < settings.samples; ++s) {
     if (callbacks.cancelled()) return false;
     const std::vector<BounceLight>& lights = scene_lights.sample(scene, settings, static_cast<uint32_t>(s), seed);
@@ -597,6 +600,10 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       draw_topology_pass(topo, settings, camera, x0, y0, width, height, view, topology_image);
     }
     callbacks.progress(s + 1, 0.5f + 0.5f * float(s + 1) / float(settings.samples));
+    if (!time_limit.another_fits(s + 1)) {
+      samples_done = s + 1;
+      break;
+    }
     const bool last = s + 1 == settings.samples;
     const auto now = std::chrono::steady_clock::now();
     if (!last && (s == 0 || now - last_publish >= kProgressivePublishInterval)) {
@@ -604,7 +611,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       last_publish = std::chrono::steady_clock::now();
     }
   }
-  callbacks.publish(make_frame(settings.samples));
+  callbacks.publish(make_frame(samples_done));
   return true;
 }
 

@@ -85,6 +85,8 @@ def _render(engine, depsgraph, reports):
     _summarize(engine, kind, info, scene_stats, current.scene.stats, render_seconds)
     if info.plan() and kind == session.FINAL:
         print(f"Bounce: {auto_line(info)}: {info.plan()}")
+    if info.noise_relmse >= 0.0 and kind == session.FINAL:
+        print(f"Bounce: {noise_line(last_render['noise'])}")
     if info.method == native.METHOD_TOPOLOGY and kind == session.FINAL:
         topology = current.engine.topology_info()
         built = "built" if topology.builds > builds_before else "from the cache"
@@ -179,6 +181,20 @@ def method_text(info, indirect):
     return "".join(f" | {text}" for text in (auto_line(info) if info.plan() else "", indirect) if text)
 
 
+def noise_forecast(noise_relmse, samples, seconds, factors=(1, 2, 4, 8)):
+    """[(samples, seconds, relMSE), ...] for `factors` times the samples of a render whose noise was estimated at
+    `noise_relmse` (native/src/noise_estimate.h): noise falls as 1 / samples, time grows with them."""
+    return [(samples * k, seconds * k, noise_relmse / k) for k in factors]
+
+
+def noise_line(forecast):
+    """One line on what a render's noise is and what 4 times its samples would buy."""
+    samples, relmse = forecast[0][0], forecast[0][2]
+    more, more_seconds, less = forecast[2]
+    return (f"noise relMSE {relmse:.2g} (estimated) after {samples} samples; {more} samples "
+            f"(about {more_seconds:.3g} s): {less:.2g}")
+
+
 def remember_plan(info, where):
     """Keeps Auto's plan of a frame for the render panel (nothing for an explicit method)."""
     if not info.plan():
@@ -204,4 +220,5 @@ def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
         triangles=scene_stats.triangle_count, dropped_triangles=scene_stats.dropped_triangles,
         lights=scene_stats.light_count, skipped_lights=scene_stats.skipped_lights,
         meshes=scene_stats.mesh_count, instances=scene_stats.instance_count, gpu_bytes=scene_stats.gpu_bytes,
-        indirect=indirect, plan=info.plan(), analysis_ms=info.shares.analysis_ms)
+        indirect=indirect, plan=info.plan(), analysis_ms=info.shares.analysis_ms,
+        noise=noise_forecast(info.noise_relmse, info.samples, render_seconds) if info.noise_relmse >= 0.0 else None)

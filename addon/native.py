@@ -262,7 +262,8 @@ class FrameInfo(ctypes.Structure):
                 ("cluster_count", _i32),
                 ("method", _i32),
                 ("plan_text", ctypes.c_char * 512),
-                ("shares", LightShares)]
+                ("shares", LightShares),
+                ("noise_relmse", _f32)]
 
     def plan(self):
         """Auto's plan in a few sentences; "" for an explicit method."""

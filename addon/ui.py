@@ -125,6 +125,16 @@ class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
         if info["dropped_triangles"] or info["skipped_lights"]:
             col.label(text=f"Dropped {info['dropped_triangles']:,} triangles, skipped {info['skipped_lights']} "
                            "lights", icon="ERROR")
+        if info.get("noise"):
+            # What accuracy costs: the estimated noise now and for more samples (its measure is the benchmarks').
+            layout.label(text="Noise (estimated relMSE) for more samples", icon="TIME")
+            grid = layout.grid_flow(row_major=True, columns=3, even_columns=True, align=True)
+            for label in ("Samples", "Time", "relMSE"):
+                grid.label(text=label)
+            for samples, seconds, relmse in info["noise"]:
+                grid.label(text=f"{samples}")
+                grid.label(text=f"{seconds:.3g} s")
+                grid.label(text=f"{relmse:.2g}")
         if info["stages"]:
             grid = layout.grid_flow(row_major=True, columns=3, even_columns=True, align=True)
             for label in ("Stage", "GPU ms", "CPU ms"):

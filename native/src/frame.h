@@ -29,7 +29,11 @@ struct Frame {
   int width = 0, height = 0;
   uint32_t held = 0;  // bits 1 << aov of the AOVs allocated (method_aovs)
   std::array<std::vector<float>, BOUNCE_AOV_COUNT> aovs;
-  BounceFrameInfo info{};
+  BounceFrameInfo info = [] {
+    BounceFrameInfo unknown_noise{};
+    unknown_noise.noise_relmse = -1.0f;  // until a render estimates it
+    return unknown_noise;
+  }();
 
   void allocate(int w, int h, uint32_t aov_bits) {
     width = w;

@@ -9,6 +9,7 @@
 
 #include "auto_plan.h"
 #include "error.h"
+#include "noise_estimate.h"
 #include "sampling.h"
 #include "time_limit.h"
 
@@ -206,6 +207,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   if (!tiles_take_turns) compose_.clear(tiles[0].width, tiles[0].height);
   const TimeLimit time_limit(settings.time_limit);
   int samples_done = samples;
+  NoiseEstimate noise;
   for (int s = 0; s < samples; ++s) {
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
@@ -260,11 +262,13 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     }
     const bool last = s + 1 == samples;
     const auto now = std::chrono::steady_clock::now();
-    if (!tiles_take_turns && !last && (s == 0 || now - last_publish >= kProgressivePublishInterval)) {
+    if (!tiles_take_turns && !last &&
+        (s == 0 || NoiseEstimate::half_way(s + 1, samples) || now - last_publish >= kProgressivePublishInterval)) {
       auto partial = std::make_shared<Frame>();
       partial->allocate(frame->width, frame->height, aov_bits);
       read_tile(*partial, tiles[0], s + 1, ComposePass::Into::Replace);
       partial->info.nonfinite_pixels = partial->zero_nonfinite();
+      noise.keep(*partial, s + 1, samples);
       finish_info(*partial, s + 1);
       callbacks.publish(partial);
       last_publish = std::chrono::steady_clock::now();
@@ -276,6 +280,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     read_tile(*frame, tiles[0], samples_done, ComposePass::Into::Replace);
   finish_info(*frame, samples_done);
   frame->info.nonfinite_pixels = frame->zero_nonfinite();
+  frame->info.noise_relmse = noise.relmse(*frame, samples_done);
   callbacks.publish(frame);
   return true;
 }

@@ -33,6 +33,10 @@ def test_auto_plans_what_the_scene_calls_for(case, blender, out_dir):
     if method:
         assert chosen == method, plan
     assert re.search(pattern, plan), plan
+    noise = re.findall(r"^Bounce: noise relMSE (\S+) \(estimated\) after 4 samples; 16 samples", result.output, re.M)
+    assert len(noise) == 1, f"one noise line expected\n{result.describe()}"
+    assert float(noise[0]) >= 0.0
+    record(f"auto.{case}.noise_relmse", float(noise[0]))
     channels = read_exr(info["exr"])
     for name in ("Indirect", "Second Bounce"):
         assert np.all(np.isfinite(layer_pass(channels, name))), f"{name} is not finite"
@@ -43,3 +47,16 @@ def test_auto_plans_what_the_scene_calls_for(case, blender, out_dir):
     record(f"auto.{case}.indirect_over_direct", round(indirect / direct, 4))
     low, high = indirect_range
     assert low <= indirect / direct <= high, f"Indirect {indirect:.4g} over Direct {direct:.4g}; {plan}"
+
+
+def test_time_limit_ends_a_final_render(blender, out_dir):
+    """65,536 samples under a Time Limit of 2 s: the render stops after the samples the limit holds, says how many,
+    and Auto fits its samples into 2 s / 65,536 (below any plan's cost: direct light once the cost is known)."""
+    result, info = run_case(blender, "auto_time_limit", out_dir, "AUTO")
+    plan = re.findall(r"^Bounce: Auto: .+?: (.+)$", result.output, re.M)[0]
+    assert "Budget 0 ms per sample" in plan, plan
+    samples = re.findall(r"^Bounce: noise relMSE \S+ \(estimated\) after (\d+) samples", result.output, re.M)
+    assert len(samples) == 1, result.describe()
+    record("auto.time_limit.samples", int(samples[0]))
+    assert 1 < int(samples[0]) < 65536
+    assert np.all(np.isfinite(layer_pass(read_exr(info["exr"]), "Combined")))

@@ -342,6 +342,9 @@ typedef struct BounceFrameInfo {
   int32_t method;               /* the method that rendered the frame (AUTO's choice; never AUTO) */
   char plan[512];               /* AUTO: what it simulated and left out, and why, in a few sentences; "" otherwise */
   BounceLightShares shares;     /* AUTO: the analysis the plan came from; zeros otherwise */
+  float noise_relmse;           /* the noise its samples left, estimated as the benchmarks' relMSE (mean of
+                                   (x - r)^2 / (r^2 + 0.01) over the RGB values of Combined, r the converged image):
+                                   native/src/noise_estimate.h; -1 where unknown (one sample, or a tiled render) */
 } BounceFrameInfo;
 
 /* The most recently published frame: after each progressive sample of a render (viewport) and at its end.

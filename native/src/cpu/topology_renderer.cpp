@@ -18,6 +18,7 @@
 #include "cpu/camera_ray.h"
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
+#include "noise_estimate.h"
 #include "sampling.h"
 #include "time_limit.h"
 
@@ -418,6 +419,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   callbacks.status("", 0.5f);
   const TimeLimit time_limit(settings.time_limit);
   int samples_done = settings.samples;
+  NoiseEstimate noise;
   for (int s = 0; s < settings.samples; ++s) {
     if (callbacks.cancelled()) return false;
     const std::vector<BounceLight>& lights = scene_lights.sample(scene, settings, static_cast<uint32_t>(s), seed);
@@ -606,12 +608,17 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
     }
     const bool last = s + 1 == settings.samples;
     const auto now = std::chrono::steady_clock::now();
-    if (!last && (s == 0 || now - last_publish >= kProgressivePublishInterval)) {
-      callbacks.publish(make_frame(s + 1));
+    if (!last && (s == 0 || NoiseEstimate::half_way(s + 1, settings.samples) ||
+                  now - last_publish >= kProgressivePublishInterval)) {
+      std::shared_ptr<Frame> partial = make_frame(s + 1);
+      noise.keep(*partial, s + 1, settings.samples);
+      callbacks.publish(std::move(partial));
       last_publish = std::chrono::steady_clock::now();
     }
   }
-  callbacks.publish(make_frame(samples_done));
+  std::shared_ptr<Frame> frame = make_frame(samples_done);
+  frame->info.noise_relmse = noise.relmse(*frame, samples_done);
+  callbacks.publish(std::move(frame));
   return true;
 }
 

@@ -305,6 +305,13 @@ def case_auto_black_room(scene):
     room(scene, 0.005)
 
 
+def case_auto_time_limit(scene):
+    """The white room with more samples than 2 seconds hold: Time Limit stops the render."""
+    room(scene, 0.8)
+    scene.bounce.samples = 65536
+    scene.bounce.time_limit = 2.0
+
+
 def case_auto_dim_world(scene):
     """The lit ground under a sky of radiance 1e-4: the world gives far less than 1 % and is left out."""
     base(scene)

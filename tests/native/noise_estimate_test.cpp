@@ -1,0 +1,70 @@
+// The noise estimate of a progressive render against the noise measured from a converged render of the same
+// method, and its fallbacks.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "render_fixture.h"
+
+namespace bounce::test {
+namespace {
+
+class NoiseEstimateTest : public RenderFixture {
+ protected:
+  float rendered_noise() {
+    BounceFrameInfo info{};
+    EXPECT_EQ(bounce_frame_info(engine_, &info), BOUNCE_OK);
+    return info.noise_relmse;
+  }
+  static double relmse(const Image& image, const Image& reference) {
+    double sum = 0.0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const double d = image.at(x, y)[c] - reference.at(x, y)[c];
+          const double r = reference.at(x, y)[c];
+          sum += d * d / (r * r + 0.01);
+        }
+    return sum / (3.0 * image.width * image.height);
+  }
+};
+
+// A ground plane shaded by a square above it, under a uniform sky drawn as 2 shadowed directions a sample:
+// the sky's occlusion is noisy round the square's shadow. Direct light, so nothing but the samples differs.
+TEST_F(NoiseEstimateTest, MatchesTheNoiseAgainstAConvergedRender) {
+  add_plane(1, 8.0f);
+  add_plane(2, 1.0f);
+  set_instances({1, 2}, {glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 0.5f))});
+  set_albedo(0.8f);
+  const BounceWorld sky{{1.0f, 1.0f, 1.0f}, 0, BOUNCE_NO_TEXTURE, {1, 0, 0, 0, 1, 0, 0, 0, 1}, 0};
+  ASSERT_BOUNCE_OK(bounce_world_set(engine_, &sky));
+  look_down(2.0f, 32);
+  settings_.method = BOUNCE_METHOD_DIRECT;
+  settings_.shadow_method = BOUNCE_SHADOWS_RAY_TRACED;
+  settings_.world_lights = 2;
+  settings_.samples = 1024;
+  const Image converged = render();
+  for (int samples : {8, 32}) {
+    settings_.samples = samples;
+    const double measured = relmse(render(), converged);
+    const float estimated = rendered_noise();
+    std::printf("%d samples: estimated %.3g, measured %.3g\n", samples, estimated, measured);
+    // Stratified samples: the halves are correlated and the estimate low (noise_estimate.h); measured 8 samples
+    // 0.0046 against 0.0186, 32 samples 0.0020 against 0.0043.
+    EXPECT_GT(estimated, measured / 6.0);
+    EXPECT_LT(estimated, measured * 1.5);
+  }
+}
+
+TEST_F(NoiseEstimateTest, UnknownForOneSample) {
+  build_furnace();
+  settings_.method = BOUNCE_METHOD_SSVP;
+  settings_.samples = 1;
+  render();
+  EXPECT_EQ(rendered_noise(), -1.0f);
+}
+
+}  // namespace
+}  // namespace bounce::test

@@ -16,19 +16,34 @@ namespace bounce {
 
 class NoiseEstimate {
  public:
-  // A render publishes the frame half-way through its samples, whatever its publishing interval: the estimate
-  // then compares half the samples with the other half.
-  static bool half_way(int samples_done, int samples) { return samples_done == samples / 2; }
-
-  // Keeps the Combined AOV of a partial frame of `samples_done` of `samples`, the latest up to half-way.
-  void keep(const Frame& partial, int samples_done, int samples) {
-    if (samples_done > samples / 2 && samples_ > 0) return;
-    combined_ = partial.aovs[BOUNCE_AOV_COMBINED];
-    samples_ = samples_done;
+  // The frames a render publishes whatever its publishing interval, and the only ones the estimate keeps: after
+  // 1, 2, 4, 8, ... samples (where Noise Target is checked, each against the one before) and half-way through
+  // (against which the final frame's noise is estimated: half the samples against the other half).
+  static bool checkpoint(int samples_done, int samples) {
+    return samples_done == samples / 2 || (samples_done > 0 && (samples_done & (samples_done - 1)) == 0);
   }
-  // The final frame's noise as relMSE; -1 without an earlier frame of fewer samples and the same size.
-  float relmse(const Frame& final_frame, int samples_done) const {
-    const std::vector<float>& last = final_frame.aovs[BOUNCE_AOV_COMBINED];
+
+  // A partial frame of `samples_done` of `samples` published: kept if a checkpoint up to half-way. Returns whether,
+  // at a checkpoint, its estimated noise is at most `target` (Noise Target; never for 0).
+  bool add_partial(const Frame& partial, int samples_done, int samples, float target) {
+    if (!checkpoint(samples_done, samples)) return false;
+    checkpoint_noise_ = relmse(partial, samples_done);
+    checkpoint_samples_ = samples_done;
+    if (samples_done <= samples / 2) {
+      combined_ = partial.aovs[BOUNCE_AOV_COMBINED];
+      samples_ = samples_done;
+    }
+    return target > 0.0f && checkpoint_noise_ >= 0.0f && checkpoint_noise_ <= target;
+  }
+  // The noise of a render's last frame: against the frame kept last, or where the render stopped at a checkpoint
+  // (Noise Target), that checkpoint's estimate.
+  float final_relmse(const Frame& frame, int samples_done) const {
+    return samples_done == checkpoint_samples_ ? checkpoint_noise_ : relmse(frame, samples_done);
+  }
+  // The noise of `frame` (of `samples_done`) as relMSE, against the frame kept last; -1 without one of fewer
+  // samples and the same size.
+  float relmse(const Frame& frame, int samples_done) const {
+    const std::vector<float>& last = frame.aovs[BOUNCE_AOV_COMBINED];
     if (samples_ <= 0 || samples_ >= samples_done || combined_.size() != last.size() || last.empty()) return -1.0f;
     const double scale = double(samples_) / double(samples_done - samples_);
     double sum = 0.0;
@@ -43,6 +58,8 @@ class NoiseEstimate {
  private:
   std::vector<float> combined_;
   int samples_ = 0;
+  float checkpoint_noise_ = -1.0f;
+  int checkpoint_samples_ = 0;
 };
 
 }  // namespace bounce

@@ -263,15 +263,19 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     const bool last = s + 1 == samples;
     const auto now = std::chrono::steady_clock::now();
     if (!tiles_take_turns && !last &&
-        (s == 0 || NoiseEstimate::half_way(s + 1, samples) || now - last_publish >= kProgressivePublishInterval)) {
+        (s == 0 || NoiseEstimate::checkpoint(s + 1, samples) || now - last_publish >= kProgressivePublishInterval)) {
       auto partial = std::make_shared<Frame>();
       partial->allocate(frame->width, frame->height, aov_bits);
       read_tile(*partial, tiles[0], s + 1, ComposePass::Into::Replace);
       partial->info.nonfinite_pixels = partial->zero_nonfinite();
-      noise.keep(*partial, s + 1, samples);
+      const bool noise_reached = noise.add_partial(*partial, s + 1, samples, settings.noise_target);
       finish_info(*partial, s + 1);
       callbacks.publish(partial);
       last_publish = std::chrono::steady_clock::now();
+      if (noise_reached) {
+        samples_done = s + 1;
+        break;
+      }
     }
   }
   if (tiles_take_turns)
@@ -280,7 +284,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     read_tile(*frame, tiles[0], samples_done, ComposePass::Into::Replace);
   finish_info(*frame, samples_done);
   frame->info.nonfinite_pixels = frame->zero_nonfinite();
-  frame->info.noise_relmse = noise.relmse(*frame, samples_done);
+  frame->info.noise_relmse = noise.final_relmse(*frame, samples_done);
   callbacks.publish(frame);
   return true;
 }

@@ -13,6 +13,20 @@ namespace {
 
 class NoiseEstimateTest : public RenderFixture {
  protected:
+  // A ground plane shaded by a square above it, under a uniform sky drawn as 2 shadowed directions a sample:
+  // the sky's occlusion is noisy round the square's shadow. Direct light, so nothing but the samples differs.
+  void build_sky_occlusion() {
+    add_plane(1, 8.0f);
+    add_plane(2, 1.0f);
+    set_instances({1, 2}, {glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 0.5f))});
+    set_albedo(0.8f);
+    const BounceWorld sky{{1.0f, 1.0f, 1.0f}, 0, BOUNCE_NO_TEXTURE, {1, 0, 0, 0, 1, 0, 0, 0, 1}, 0};
+    ASSERT_BOUNCE_OK(bounce_world_set(engine_, &sky));
+    look_down(2.0f, 32);
+    settings_.method = BOUNCE_METHOD_DIRECT;
+    settings_.shadow_method = BOUNCE_SHADOWS_RAY_TRACED;
+    settings_.world_lights = 2;
+  }
   float rendered_noise() {
     BounceFrameInfo info{};
     EXPECT_EQ(bounce_frame_info(engine_, &info), BOUNCE_OK);
@@ -31,19 +45,8 @@ class NoiseEstimateTest : public RenderFixture {
   }
 };
 
-// A ground plane shaded by a square above it, under a uniform sky drawn as 2 shadowed directions a sample:
-// the sky's occlusion is noisy round the square's shadow. Direct light, so nothing but the samples differs.
 TEST_F(NoiseEstimateTest, MatchesTheNoiseAgainstAConvergedRender) {
-  add_plane(1, 8.0f);
-  add_plane(2, 1.0f);
-  set_instances({1, 2}, {glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 0.5f))});
-  set_albedo(0.8f);
-  const BounceWorld sky{{1.0f, 1.0f, 1.0f}, 0, BOUNCE_NO_TEXTURE, {1, 0, 0, 0, 1, 0, 0, 0, 1}, 0};
-  ASSERT_BOUNCE_OK(bounce_world_set(engine_, &sky));
-  look_down(2.0f, 32);
-  settings_.method = BOUNCE_METHOD_DIRECT;
-  settings_.shadow_method = BOUNCE_SHADOWS_RAY_TRACED;
-  settings_.world_lights = 2;
+  build_sky_occlusion();
   settings_.samples = 1024;
   const Image converged = render();
   for (int samples : {8, 32}) {
@@ -56,6 +59,21 @@ TEST_F(NoiseEstimateTest, MatchesTheNoiseAgainstAConvergedRender) {
     EXPECT_GT(estimated, measured / 6.0);
     EXPECT_LT(estimated, measured * 1.5);
   }
+}
+
+// Noise Target: the render stops at the first checkpoint (a power of two of samples) whose estimate meets it.
+TEST_F(NoiseEstimateTest, NoiseTargetStopsAtTheCheckpointThatMeetsIt) {
+  build_sky_occlusion();
+  settings_.samples = 1024;
+  settings_.noise_target = 0.003f;
+  render();
+  BounceFrameInfo info{};
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+  std::printf("stopped after %d samples at an estimated %.3g\n", info.samples, info.noise_relmse);
+  EXPECT_LT(info.samples, 1024);
+  EXPECT_EQ(info.samples & (info.samples - 1), 0);
+  EXPECT_GT(info.noise_relmse, 0.0f);
+  EXPECT_LE(info.noise_relmse, 0.003f);
 }
 
 TEST_F(NoiseEstimateTest, UnknownForOneSample) {

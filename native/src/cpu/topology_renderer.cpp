@@ -608,16 +608,20 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
     }
     const bool last = s + 1 == settings.samples;
     const auto now = std::chrono::steady_clock::now();
-    if (!last && (s == 0 || NoiseEstimate::half_way(s + 1, settings.samples) ||
+    if (!last && (s == 0 || NoiseEstimate::checkpoint(s + 1, settings.samples) ||
                   now - last_publish >= kProgressivePublishInterval)) {
       std::shared_ptr<Frame> partial = make_frame(s + 1);
-      noise.keep(*partial, s + 1, settings.samples);
+      const bool noise_reached = noise.add_partial(*partial, s + 1, settings.samples, settings.noise_target);
       callbacks.publish(std::move(partial));
       last_publish = std::chrono::steady_clock::now();
+      if (noise_reached) {
+        samples_done = s + 1;
+        break;
+      }
     }
   }
   std::shared_ptr<Frame> frame = make_frame(samples_done);
-  frame->info.noise_relmse = noise.relmse(*frame, samples_done);
+  frame->info.noise_relmse = noise.final_relmse(*frame, samples_done);
   callbacks.publish(std::move(frame));
   return true;
 }

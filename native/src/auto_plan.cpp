@@ -46,17 +46,17 @@ double sample_budget(const BounceSettings& settings) {
 std::string fit_budget(BounceSettings& out, double budget, const CostModel& costs, int64_t pixels,
                        double& estimated_ms) {
   const std::string head = "Budget " + milliseconds(budget) + " per sample";
-  std::vector<std::string> dropped;
+  std::vector<std::string> parts;
   while (true) {
     const std::optional<SampleCost> cost = costs.predict(out.method, out.bounces, pixels);
     if (!cost) {
-      dropped.push_back("cost not measured yet");
-      return head + ": " + join(dropped, ", ");
+      parts.push_back("cost not measured yet");
+      return head + ": " + join(parts, ", ");
     }
     if (out.method == BOUNCE_METHOD_DIRECT) {
       estimated_ms = cost->at(0);
-      dropped.push_back("direct light " + milliseconds(estimated_ms));
-      return head + ": " + join(dropped, ", ");
+      parts.push_back("direct light " + milliseconds(estimated_ms));
+      return head + ": " + join(parts, ", ");
     }
     const double vpls = cost->per_vpl_ms > 0.0     ? (budget - cost->fixed_ms) / cost->per_vpl_ms
                         : cost->fixed_ms <= budget ? double(out.ssvp_vpls)
@@ -64,11 +64,11 @@ std::string fit_budget(BounceSettings& out, double budget, const CostModel& cost
     if (vpls >= kFewestVpls) {
       out.ssvp_vpls = int32_t(std::min(vpls, double(kMostVpls)));
       estimated_ms = cost->at(out.ssvp_vpls);
-      dropped.push_back(std::to_string(out.ssvp_vpls) + " first-bounce VPLs, " + milliseconds(estimated_ms));
-      return head + ": " + join(dropped, ", ");
+      parts.push_back(std::to_string(out.ssvp_vpls) + " first-bounce VPLs, " + milliseconds(estimated_ms));
+      return head + ": " + join(parts, ", ");
     }
-    dropped.push_back((out.bounces >= 2 ? "second bounce dropped (" : "bounces dropped (") +
-                      milliseconds(cost->at(kFewestVpls)) + ")");
+    parts.push_back((out.bounces >= 2 ? "second bounce dropped (" : "bounces dropped (") +
+                    milliseconds(cost->at(kFewestVpls)) + ")");
     if (out.bounces >= 2)
       out.bounces = 1;
     else

@@ -34,16 +34,12 @@ std::optional<SampleCost> CostModel::predict(int32_t method, int32_t bounces, in
   const auto it = costs_.find(key_of(method, bounces));
   if (it == costs_.end() || it->second.empty()) return std::nullopt;
   const std::deque<Observation>& seen = it->second;
-  double n = 0.0, x = 0.0, y = 0.0, share = 0.0;
+  double x = 0.0, y = 0.0, share = 0.0;  // means
   for (const Observation& o : seen) {
-    n += 1.0;
-    x += o.vpls;
-    y += o.ms_per_pixel;
-    share += o.vpl_share;
+    x += o.vpls / double(seen.size());
+    y += o.ms_per_pixel / double(seen.size());
+    share += o.vpl_share / double(seen.size());
   }
-  x /= n;
-  y /= n;
-  share /= n;
   double sxx = 0.0, sxy = 0.0;
   for (const Observation& o : seen) {
     sxx += (o.vpls - x) * (o.vpls - x);

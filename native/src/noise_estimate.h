@@ -17,8 +17,9 @@ namespace bounce {
 class NoiseEstimate {
  public:
   // The frames a render publishes whatever its publishing interval, and the only ones the estimate keeps: after
-  // 1, 2, 4, 8, ... samples (where Noise Target is checked, each against the one before) and half-way through
-  // (against which the final frame's noise is estimated: half the samples against the other half).
+  // 1, 2, 4, 8, ... samples (where Noise Target is checked, each against the one before, and which a render that
+  // Time Limit stops early is estimated against) and half-way through (against which a render of all its samples
+  // is estimated: half the samples against the other half).
   static bool checkpoint(int samples_done, int samples) {
     return samples_done == samples / 2 || (samples_done > 0 && (samples_done & (samples_done - 1)) == 0);
   }

@@ -9,15 +9,12 @@
 
 #include "auto_plan.h"
 #include "error.h"
-#include "noise_estimate.h"
+#include "sample_schedule.h"
 #include "sampling.h"
-#include "time_limit.h"
 
 namespace bounce {
 
 namespace {
-
-constexpr std::chrono::milliseconds kProgressivePublishInterval(250);
 
 struct Tile {
   int x, y, width, height;  // in image pixels
@@ -144,7 +141,6 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   timer_.reset();
   const int samples = settings.samples;
   const int total_steps = samples * static_cast<int>(tiles.size());
-  auto last_publish = std::chrono::steady_clock::now();
 
   // One tile keeps the sum of its samples in the accumulation targets; several take turns with them, each adding
   // its samples into the frame on the host, so GPU memory stays bounded by the tile size.
@@ -205,9 +201,8 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   // Samples outside, tiles inside: what a sample computes whatever the view (shadow maps, Forward Light Cuts'
   // VPLs) is computed once and shared by its tiles. ShadowPass keeps each light's map until the sample changes.
   if (!tiles_take_turns) compose_.clear(tiles[0].width, tiles[0].height);
-  const TimeLimit time_limit(settings.time_limit);
+  SampleSchedule schedule(settings);
   int samples_done = samples;
-  NoiseEstimate noise;
   for (int s = 0; s < samples; ++s) {
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
@@ -256,22 +251,18 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       callbacks.progress(s + 1, static_cast<float>(done) / static_cast<float>(total_steps));
     }
 
-    if (!time_limit.another_fits(s + 1)) {
+    if (!schedule.another_fits(s + 1)) {
       samples_done = s + 1;
       break;
     }
-    const bool last = s + 1 == samples;
-    const auto now = std::chrono::steady_clock::now();
-    if (!tiles_take_turns && !last &&
-        (s == 0 || NoiseEstimate::checkpoint(s + 1, samples) || now - last_publish >= kProgressivePublishInterval)) {
+    if (!tiles_take_turns && s + 1 < samples && schedule.publish_due(s + 1)) {
       auto partial = std::make_shared<Frame>();
       partial->allocate(frame->width, frame->height, aov_bits);
       read_tile(*partial, tiles[0], s + 1, ComposePass::Into::Replace);
       partial->info.nonfinite_pixels = partial->zero_nonfinite();
-      const bool noise_reached = noise.add_partial(*partial, s + 1, samples, settings.noise_target);
+      const bool noise_reached = schedule.published(*partial, s + 1);
       finish_info(*partial, s + 1);
       callbacks.publish(partial);
-      last_publish = std::chrono::steady_clock::now();
       if (noise_reached) {
         samples_done = s + 1;
         break;
@@ -284,7 +275,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     read_tile(*frame, tiles[0], samples_done, ComposePass::Into::Replace);
   finish_info(*frame, samples_done);
   frame->info.nonfinite_pixels = frame->zero_nonfinite();
-  frame->info.noise_relmse = noise.final_relmse(*frame, samples_done);
+  frame->info.noise_relmse = schedule.noise_relmse(*frame, samples_done);
   callbacks.publish(frame);
   return true;
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -18,9 +17,8 @@
 #include "cpu/camera_ray.h"
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
-#include "noise_estimate.h"
+#include "sample_schedule.h"
 #include "sampling.h"
-#include "time_limit.h"
 
 namespace bounce::cpu {
 namespace {
@@ -28,7 +26,6 @@ namespace {
 using topology::kNoNode;
 
 constexpr float kPi = 3.14159265358979f;
-constexpr std::chrono::milliseconds kProgressivePublishInterval(250);
 constexpr int kDepthSlices = 16;           // clustered shading's exponential depth slices (Olsson et al. 2012)
 constexpr float kBackgroundDepth = 1e10f;  // Blender's Depth pass value where nothing is hit
 enum Purpose : uint64_t { kDirectLight = 21, kVplResampling = 22, kVplSample = 23 };
@@ -415,11 +412,9 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
     return frame;
   };
 
-  auto last_publish = std::chrono::steady_clock::now();
   callbacks.status("", 0.5f);
-  const TimeLimit time_limit(settings.time_limit);
+  SampleSchedule schedule(settings);
   int samples_done = settings.samples;
-  NoiseEstimate noise;
   for (int s = 0; s < settings.samples; ++s) {
     if (callbacks.cancelled()) return false;
     const std::vector<BounceLight>& lights = scene_lights.sample(scene, settings, static_cast<uint32_t>(s), seed);
@@ -602,18 +597,14 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       draw_topology_pass(topo, settings, camera, x0, y0, width, height, view, topology_image);
     }
     callbacks.progress(s + 1, 0.5f + 0.5f * float(s + 1) / float(settings.samples));
-    if (!time_limit.another_fits(s + 1)) {
+    if (!schedule.another_fits(s + 1)) {
       samples_done = s + 1;
       break;
     }
-    const bool last = s + 1 == settings.samples;
-    const auto now = std::chrono::steady_clock::now();
-    if (!last && (s == 0 || NoiseEstimate::checkpoint(s + 1, settings.samples) ||
-                  now - last_publish >= kProgressivePublishInterval)) {
+    if (s + 1 < settings.samples && schedule.publish_due(s + 1)) {
       std::shared_ptr<Frame> partial = make_frame(s + 1);
-      const bool noise_reached = noise.add_partial(*partial, s + 1, settings.samples, settings.noise_target);
+      const bool noise_reached = schedule.published(*partial, s + 1);
       callbacks.publish(std::move(partial));
-      last_publish = std::chrono::steady_clock::now();
       if (noise_reached) {
         samples_done = s + 1;
         break;
@@ -621,7 +612,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
     }
   }
   std::shared_ptr<Frame> frame = make_frame(samples_done);
-  frame->info.noise_relmse = noise.final_relmse(*frame, samples_done);
+  frame->info.noise_relmse = schedule.noise_relmse(*frame, samples_done);
   callbacks.publish(std::move(frame));
   return true;
 }

@@ -56,8 +56,9 @@ def parse_args(argv):
     parser.add_argument("--set", action="append", default=[], metavar="NAME=V[,V...]",
                         help="a scene.bounce setting; several values sweep it (repeatable; sweeps multiply)")
     parser.add_argument("--scenes", help="comma-separated scene names instead of the suite's: cornell, sponza, two-rooms, "
-                        "two-rooms-wall, sunlit-interior, cornell-emissive, sponza-hdri, sunlit-interior-sky, grid, "
-                        "grid-100k, dragons-N; NAME:CAMERA renders NAME through its camera object CAMERA (e.g. "
+                        "two-rooms-wall, sunlit-interior, open-ground, cornell-emissive, sponza-hdri, "
+                        "sunlit-interior-sky, cornell-white, cornell-black, grid, grid-100k, dragons-N; NAME:CAMERA "
+                        "renders NAME through its camera object CAMERA (e.g. "
                         "two-rooms-wall:CameraA); NAME@SOURCES renders NAME lit by those light source classes "
                         "alone (lamps, world, emission, joined by '+'; e.g. sunlit-interior-sky@world)")
     parser.add_argument("--resolution", help="WxH for every scene instead of the suite's")

@@ -1,7 +1,8 @@
-"""Builds a benchmark scene lit another way (issue 16: the world and emission against Cycles) from a built base
-.blend, and saves it as a .blend.
+"""Builds a benchmark scene lit another way (issue 16: the world and emission against Cycles) or with other
+albedos (issue 17: where the bounces matter) from a built base .blend, and saves it as a .blend.
 
-    blender -b --factory-startup --python benchmarks/relit_scene.py -- --base B.blend --lighting L --out R.blend
+    blender -b --factory-startup --python benchmarks/relit_scene.py -- --base B.blend [--lighting L]
+        [--albedo A] --out R.blend
 
 Lightings:
   emissive-panel: every area light becomes a quad of its size and place with an Emission material of its
@@ -10,6 +11,9 @@ Lightings:
   hdri:           the lamps are removed; the world is Blender's studio HDRI --hdri (strength 1) through an
                   Environment Texture, so the sky alone lights the scene.
   sky:            the lamps stay and the studio HDRI --hdri is added as the world.
+Albedos (every Diffuse BSDF's constant colour):
+  white:          0.85 grey everywhere: a bright white room, where the second bounce is most of the indirect light.
+  near-black:     the base colour times 0.02 (the Cornell box's white walls 0.015): no bounce matters.
 """
 import argparse
 import os
@@ -71,11 +75,28 @@ def hdri_world(scene, name):
     print(f"world: {path}")
 
 
+ALBEDOS = {"white": lambda colour: (0.85, 0.85, 0.85), "near-black": lambda colour: tuple(0.02 * c for c in colour)}
+
+
+def set_albedo(name):
+    recolour = ALBEDOS[name]
+    for material in bpy.data.materials:
+        for node in material.node_tree.nodes if material.use_nodes else []:
+            if node.type != "BSDF_DIFFUSE":
+                continue
+            colour = node.inputs["Color"]
+            if colour.is_linked:
+                sys.exit(f"relit_scene: material '{material.name}' has a textured colour; --albedo needs constants")
+            colour.default_value = (*recolour(colour.default_value[:3]), 1.0)
+            print(f"{material.name}: albedo {tuple(round(c, 4) for c in colour.default_value[:3])}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--base", required=True)
     parser.add_argument("--base-key", help="the base scene's cache key (rebuilds this one when it changes)")
-    parser.add_argument("--lighting", required=True, choices=["emissive-panel", "hdri", "sky"])
+    parser.add_argument("--lighting", choices=["emissive-panel", "hdri", "sky"])
+    parser.add_argument("--albedo", choices=sorted(ALBEDOS))
     parser.add_argument("--hdri", default="courtyard.exr")
     parser.add_argument("--out", required=True)
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:])
@@ -83,10 +104,12 @@ def main():
     scene = bpy.context.scene
     if args.lighting == "emissive-panel":
         emissive_panels(scene)
-    else:
+    elif args.lighting:
         if args.lighting == "hdri":
             remove(lamps())
         hdri_world(scene, args.hdri)
+    if args.albedo:
+        set_albedo(args.albedo)
     bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.out), compress=False)
 
 

@@ -22,14 +22,17 @@ RENDER_SCRIPT = HERE / "blender_render.py"
 DRAGON_SCRIPT = HERE / "dragon_scene.py"
 TWO_ROOMS_SCRIPT = HERE / "two_rooms_scene.py"
 SUNLIT_INTERIOR_SCRIPT = HERE / "sunlit_interior_scene.py"
+OPEN_GROUND_SCRIPT = HERE / "open_ground_scene.py"
 RELIT_SCRIPT = HERE / "relit_scene.py"
 # The scenes built by this folder's scripts: name -> (script, its arguments).
 LOCAL_SCENES = {"two-rooms": (TWO_ROOMS_SCRIPT, []), "two-rooms-wall": (TWO_ROOMS_SCRIPT, ["--wall"]),
-                "sunlit-interior": (SUNLIT_INTERIOR_SCRIPT, [])}
+                "sunlit-interior": (SUNLIT_INTERIOR_SCRIPT, []), "open-ground": (OPEN_GROUND_SCRIPT, [])}
 # Scenes relit from another (relit_scene.py): name -> (the scene it starts from, relit_scene.py's arguments).
 RELIT_SCENES = {"cornell-emissive": ("cornell", ["--lighting", "emissive-panel"]),
                 "sponza-hdri": ("sponza", ["--lighting", "hdri", "--hdri", "courtyard.exr"]),
-                "sunlit-interior-sky": ("sunlit-interior", ["--lighting", "sky", "--hdri", "sunrise.exr"])}
+                "sunlit-interior-sky": ("sunlit-interior", ["--lighting", "sky", "--hdri", "sunrise.exr"]),
+                "cornell-white": ("cornell", ["--albedo", "white"]),
+                "cornell-black": ("cornell", ["--albedo", "near-black"])}
 # Seeds differ so a reference's noise is independent of the Cycles renders measured against it.
 REFERENCE_SEED = 7919
 CYCLES_SEED = 0
@@ -86,8 +89,9 @@ def _build(name, script, args, cache):
 
 
 def standard_scene(name, cache):
-    """cornell, sponza (from ../shared/scenes/setups), two-rooms, two-rooms-wall, sunlit-interior (LOCAL_SCENES),
-    cornell-emissive, sponza-hdri, sunlit-interior-sky (RELIT_SCENES) or grid (the factory scene plus 1M triangles). 'NAME:CAMERA' (e.g. two-rooms-wall:CameraA) is scene NAME seen
+    """cornell, sponza (from ../shared/scenes/setups), two-rooms, two-rooms-wall, sunlit-interior, open-ground
+    (LOCAL_SCENES), cornell-emissive, sponza-hdri, sunlit-interior-sky, cornell-white, cornell-black (RELIT_SCENES) or
+    grid (the factory scene plus 1M triangles). 'NAME:CAMERA' (e.g. two-rooms-wall:CameraA) is scene NAME seen
     through its camera object CAMERA; its references are cached apart. 'NAME@SOURCES' (e.g. sunlit-interior-sky@world,
     cornell@lamps+world) is NAME lit by those source classes alone (lamps, world, emission), in Cycles and Bounce
     alike: light adds up, so that scene's components are those classes' share of NAME's."""

@@ -447,7 +447,9 @@ _BUDGET_SCENES = [("cornell", 256, 256), ("sponza", 480, 270), ("two-rooms", 480
                   # lit by emission or the world alone, or by the world added (issue 16)
                   ("cornell-emissive", 256, 256), ("sponza-hdri", 480, 270), ("sunlit-interior-sky", 480, 270),
                   # its sources apart: the world's and the sun's share of each component
-                  ("sunlit-interior-sky@world", 480, 270), ("sunlit-interior-sky@lamps", 480, 270)]
+                  ("sunlit-interior-sky@world", 480, 270), ("sunlit-interior-sky@lamps", 480, 270),
+                  # where the bounces matter little, not at all, or most (issue 17)
+                  ("open-ground", 480, 270), ("cornell-black", 256, 256), ("cornell-white", 256, 256)]
 _QUICK_BUDGET_SCENES = [("cornell", 64, 64)] + [(name, 96, 54) for name, _, _ in _BUDGET_SCENES[1:]]
 # Error over time needs a reference that is not black: not the closed room.
 _TIME_SCENES = [s for s in _BUDGET_SCENES if s[0] not in (budget.CLOSED_ROOM, budget.LIT_ROOM)]

@@ -6,6 +6,8 @@
 #include <optional>
 #include <vector>
 
+#include "settings.h"
+
 namespace bounce {
 namespace {
 
@@ -27,10 +29,21 @@ std::string join(const std::vector<std::string>& parts, const char* separator) {
   return out;
 }
 
-// The fewest first-bounce VPLs worth a bounce under a budget (SSVP's importance resampling keeps a few per
-// cluster), and the most a budget may buy (the setting's soft maximum).
-constexpr int kFewestVpls = 16;
-constexpr int kMostVpls = 2048;
+// The method that renders Auto's bounces. Topology: ray-traced direct light and VPLs traced from every source,
+// with indirect shadows by visibility clusters and gates; at equal wall time the lowest combined error on 8 of the
+// 9 scenes of `scripts/benchmark --suite budget-time` (README, Auto), and the only method that keeps a closed
+// room dark (the two rooms: 0.047 where Screen-Space VPL Propagation, whose shadows come from paraboloid maps of
+// a few clusters, is at 0.52 and direct light alone at 0.20).
+constexpr int32_t kIndirectMethod = BOUNCE_METHOD_TOPOLOGY;
+
+const char* method_name(int32_t method) {
+  return method == BOUNCE_METHOD_TOPOLOGY ? "Topology (VPLs with indirect shadows)" : "Screen-Space VPL Propagation";
+}
+
+// The VPLs a budget may buy: the setting's soft range, so that every plan stays one the user could have set.
+SoftRange vpl_range(int32_t method) {
+  return soft_range(method == BOUNCE_METHOD_TOPOLOGY ? "topology_vpls" : "ssvp_vpls");
+}
 
 double sample_budget(const BounceSettings& settings) {
   double budget = settings.sample_budget;
@@ -41,11 +54,14 @@ double sample_budget(const BounceSettings& settings) {
   return budget;
 }
 
-// Fits `out` (an SSVP or DIRECT plan) into `budget` ms per sample: the first-bounce VPLs that fill it, else one
-// bounce fewer, down to direct light. Returns the sentence that says how.
+// Fits `out` (a plan with VPLs, or DIRECT) into `budget` ms per sample: the VPLs that fill it, else one bounce
+// fewer; where Topology does not fit with one bounce, Screen-Space VPL Propagation with the planned bounces (whose
+// cost grows with the GPU where Topology's grows with the CPU cores), and its bounces in turn, down to direct
+// light. Returns the sentence that says how.
 std::string fit_budget(BounceSettings& out, double budget, const CostModel& costs, int64_t pixels,
                        double& estimated_ms) {
   const std::string head = "Budget " + milliseconds(budget) + " per sample";
+  const int32_t planned_bounces = out.bounces;
   std::vector<std::string> parts;
   while (true) {
     const std::optional<SampleCost> cost = costs.predict(out.method, out.bounces, pixels);
@@ -53,26 +69,36 @@ std::string fit_budget(BounceSettings& out, double budget, const CostModel& cost
       parts.push_back("cost not measured yet");
       return head + ": " + join(parts, ", ");
     }
-    if (out.method == BOUNCE_METHOD_DIRECT) {
+    int32_t* const vpl_count = vpl_setting(out);
+    if (!vpl_count) {
       estimated_ms = cost->at(0);
       parts.push_back("direct light " + milliseconds(estimated_ms));
       return head + ": " + join(parts, ", ");
     }
+    const SoftRange range = vpl_range(out.method);
     const double vpls = cost->per_vpl_ms > 0.0     ? (budget - cost->fixed_ms) / cost->per_vpl_ms
-                        : cost->fixed_ms <= budget ? double(out.ssvp_vpls)
+                        : cost->fixed_ms <= budget ? double(*vpl_count)
                                                    : 0.0;
-    if (vpls >= kFewestVpls) {
-      out.ssvp_vpls = int32_t(std::min(vpls, double(kMostVpls)));
-      estimated_ms = cost->at(out.ssvp_vpls);
-      parts.push_back(std::to_string(out.ssvp_vpls) + " first-bounce VPLs, " + milliseconds(estimated_ms));
+    if (vpls >= range.min) {
+      *vpl_count = int32_t(std::min(vpls, range.max));
+      estimated_ms = cost->at(*vpl_count);
+      parts.push_back(std::to_string(*vpl_count) +
+                      (out.method == BOUNCE_METHOD_SSVP ? " first-bounce VPLs, " : " VPLs, ") +
+                      milliseconds(estimated_ms));
       return head + ": " + join(parts, ", ");
     }
-    parts.push_back((out.bounces >= 2 ? "second bounce dropped (" : "bounces dropped (") +
-                    milliseconds(cost->at(kFewestVpls)) + ")");
-    if (out.bounces >= 2)
+    const std::string fewest = " (" + milliseconds(cost->at(int(range.min))) + ")";
+    if (out.bounces >= 2) {
+      parts.push_back("second bounce dropped" + fewest);
       out.bounces = 1;
-    else
+    } else if (out.method == BOUNCE_METHOD_TOPOLOGY) {
+      parts.push_back("Topology too slow" + fewest + ", Screen-Space VPL Propagation instead");
+      out.method = BOUNCE_METHOD_SSVP;
+      out.bounces = planned_bounces;
+    } else {
+      parts.push_back("bounces dropped" + fewest);
       out.method = BOUNCE_METHOD_DIRECT;
+    }
   }
 }
 
@@ -113,23 +139,20 @@ AutoPlan plan_auto(const BounceSettings& settings, const cpu::SceneAnalysis& ana
     out.method = BOUNCE_METHOD_DIRECT;
     sentences.push_back("Bounces " + percent(first + second) + ": skipped" + below);
   } else {
-    // Screen-Space VPL Propagation: the first bounce within 4 % of Cycles on the Cornell box, Sponza and the sunlit
-    // interior, and the best error at equal time of the error budget on two of its four scenes (README, Accuracy).
-    out.method = BOUNCE_METHOD_SSVP;
+    out.method = kIndirectMethod;
     out.bounces = second >= threshold ? 2 : 1;
     if (out.bounces == 2) {
-      sentences.push_back("First bounce " + percent(first) + " and second " + percent(second) +
-                          ": Screen-Space VPL Propagation");
+      sentences.push_back("First bounce " + percent(first) + " and second " + percent(second) + ": " +
+                          method_name(out.method));
     } else {
-      sentences.push_back("First bounce " + percent(first) + ": Screen-Space VPL Propagation");
+      sentences.push_back("First bounce " + percent(first) + ": " + method_name(out.method));
       sentences.push_back("Second bounce " + percent(second) + ": skipped" + below);
     }
   }
   // Time saved by what was skipped, where the model has measured the fuller plan.
-  if (out.method == BOUNCE_METHOD_SSVP && out.bounces == 1 && settings.bounces >= 2) {
-    const auto one = costs.predict(BOUNCE_METHOD_SSVP, 1, pixels), two = costs.predict(BOUNCE_METHOD_SSVP, 2, pixels);
-    if (one && two && second < threshold)
-      sentences.back() += ", saving " + milliseconds(two->at(out.ssvp_vpls) - one->at(out.ssvp_vpls)) + " a sample";
+  if (const int32_t* vpls = vpl_setting(out); vpls && out.bounces == 1 && second < threshold) {
+    const auto one = costs.predict(out.method, 1, pixels), two = costs.predict(out.method, 2, pixels);
+    if (one && two) sentences.back() += ", saving " + milliseconds(two->at(*vpls) - one->at(*vpls)) + " a sample";
   }
   plan.budget_ms = sample_budget(settings);
   if (plan.budget_ms > 0.0) sentences.push_back(fit_budget(out, plan.budget_ms, costs, pixels, plan.estimated_ms));

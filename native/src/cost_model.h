@@ -1,8 +1,8 @@
 // Auto's cost model: what a progressive sample costs on this machine, learned from the samples this engine has
 // rendered (no constant tuned elsewhere). Per method and bounce count, the time per pixel of a sample is a line in
-// the first-bounce VPL count, fitted by least squares to the last frames; while they all had one VPL count, the
-// stage timer's share of the VPL stages (their importance sampling and shading) gives the slope. Engines share the
-// process's model (shared()): a final render is a new engine, and the machine is the same.
+// the method's VPL count (vpl_setting), fitted by least squares to the last frames; while they all had one VPL
+// count, the stage timer's share of the VPL stages (tracing or importance sampling, and shading) gives the slope.
+// Engines share the process's model (shared()): a final render is a new engine, and the machine is the same.
 #pragma once
 
 #include <deque>
@@ -15,9 +15,18 @@
 
 namespace bounce {
 
+// The setting a method's sample cost grows with: Topology's VPLs (paths times bounces), SSVP's first-bounce VPLs
+// (the second bounce's follow them); nullptr for a method without one.
+template <typename Settings>
+auto* vpl_setting(Settings& settings) {
+  return settings.method == BOUNCE_METHOD_TOPOLOGY ? &settings.topology_vpls
+         : settings.method == BOUNCE_METHOD_SSVP   ? &settings.ssvp_vpls
+                                                   : nullptr;
+}
+
 struct SampleCost {
   double fixed_ms = 0.0;    // what does not depend on the VPL count: G-buffer, shadows, direct light, clustering
-  double per_vpl_ms = 0.0;  // per first-bounce VPL
+  double per_vpl_ms = 0.0;  // per VPL of vpl_setting
   double at(int vpls) const { return fixed_ms + per_vpl_ms * vpls; }
 };
 
@@ -26,7 +35,7 @@ class CostModel {
   static CostModel& shared();
 
   // A rendered frame of `settings` at `pixels` pixels whose samples took `sample_ms` each on average, of which
-  // the share `vpl_share` was spent on work proportional to settings.ssvp_vpls.
+  // the share `vpl_share` was spent on work proportional to its VPL count (vpl_setting).
   void observe(const BounceSettings& settings, int64_t pixels, double sample_ms, double vpl_share);
   // The cost of a sample of `method` with `bounces` at `pixels` pixels; none before a frame of it was observed.
   std::optional<SampleCost> predict(int32_t method, int32_t bounces, int64_t pixels) const;

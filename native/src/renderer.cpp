@@ -20,6 +20,13 @@ struct Tile {
   int x, y, width, height;  // in image pixels
 };
 
+// The stages whose work grows with the method's VPL count (cost_model.h's vpl_setting).
+double vpl_stages_milliseconds(const StageTimer& timer, int32_t method) {
+  if (method == BOUNCE_METHOD_TOPOLOGY)
+    return timer.milliseconds(Stage::TopologyVpls) + timer.milliseconds(Stage::TopologyIndirect);
+  return timer.milliseconds(Stage::SsvpImportance) + timer.milliseconds(Stage::SsvpShade);
+}
+
 }  // namespace
 
 glm::mat4 tile_matrix(int image_width, int image_height, int x0, int y0, int width, int height, glm::vec2 jitter) {
@@ -56,18 +63,18 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
   if (settings.method == BOUNCE_METHOD_AUTO)
     plan = plan_auto(settings, analysis(settings, camera), CostModel::shared(), pixels);
   // Every frame published teaches the cost model, whichever method it had, a cancelled render's too (the viewport
-  // restarts while one navigates): the share of the first-bounce VPLs' stages (importance sampling, shading) in the
-  // stage timer's total splits its time.
+  // restarts while one navigates): the share of the VPLs' stages in the stage timer's total splits its time. The
+  // topology's precomputation is paid once per scene, not per sample.
   const auto started = std::chrono::steady_clock::now();
   double sample_ms = 0.0, vpl_share = 0.0;
   RenderCallbacks annotated = callbacks;
   annotated.publish = [&](std::shared_ptr<Frame> frame) {
-    sample_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count() /
+    const double precompute_ms = timer_.milliseconds(Stage::TopologyPrecompute);
+    sample_ms = (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count() -
+                 precompute_ms) /
                 std::max(frame->info.samples, 1);
-    const double total_ms = timer_.total_milliseconds();
-    vpl_share = total_ms > 0.0
-                    ? (timer_.milliseconds(Stage::SsvpImportance) + timer_.milliseconds(Stage::SsvpShade)) / total_ms
-                    : 0.0;
+    const double total_ms = timer_.total_milliseconds() - precompute_ms;
+    vpl_share = total_ms > 0.0 ? vpl_stages_milliseconds(timer_, plan.settings.method) / total_ms : 0.0;
     frame->info.method = plan.settings.method;
     const std::string used = plan.budget_ms > 0.0 ? " Used " + std::to_string(std::lround(sample_ms)) + " ms." : "";
     std::snprintf(frame->info.plan, sizeof frame->info.plan, "%s", (plan.summary + used).c_str());

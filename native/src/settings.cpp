@@ -92,6 +92,14 @@ void validate_settings(const BounceSettings& s) {
 #undef BOUNCE_SETTING
 }
 
+SoftRange soft_range(std::string_view setting) {
+#define BOUNCE_SETTING(ctype, glsl_type, kind, name, label, def, min, max, smin, smax, flags, group, items, desc) \
+  if (setting == #name) return {static_cast<double>(smin), static_cast<double>(smax)};
+#include "bounce/settings.def"
+#undef BOUNCE_SETTING
+  fail(BOUNCE_ERROR_INVALID_ARGUMENT, "no setting '" + std::string(setting) + "'");
+}
+
 const std::string& settings_table_json() {
   static const std::string json = [] {
     std::string out = "[";

@@ -13,8 +13,8 @@ from test_hard_inputs import run_case
 # case: (method Auto chose, what its plan must say, Indirect's mean over Direct's: (low, high))
 CASES = {
     # Each bounce adds 0.8 of the last: the bounces bring more light than the lamp directly.
-    "auto_white_room": ("Screen-Space VPL Propagation", r"First bounce \d+ % and second \d+ %", (0.8, 3.0)),
-    "auto_grey_room": ("Screen-Space VPL Propagation", r"Second bounce 0\.\d %: skipped \(below 1\.0 %\)",
+    "auto_white_room": ("Topology", r"First bounce \d+ % and second \d+ %", (0.8, 3.0)),
+    "auto_grey_room": ("Topology", r"Second bounce 0\.\d %: skipped \(below 1\.0 %\)",
                        (0.03, 0.15)),
     "auto_black_room": ("Direct", r"Bounces 0\.\d %: skipped \(below 1\.0 %\)", (0.0, 0.0)),
     "auto_dim_world": (None, r"World 0\.0 %: skipped \(below 1\.0 %\)", None),

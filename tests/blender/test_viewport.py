@@ -94,7 +94,7 @@ def test_auto_plans_in_the_viewport(viewport_run):
         assert plan["text"] == ""
         return
     record("viewport.auto.plan", plan["text"])
-    assert plan["method"] == 3, plan  # Screen-Space VPL Propagation
+    assert plan["method"] == 4, plan  # Topology
     assert "First bounce" in plan["text"] and "and second" in plan["text"], plan
     assert plan["shown"]["where"] == "viewport" and plan["shown"]["text"] == plan["text"]
 

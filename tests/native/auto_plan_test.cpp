@@ -35,7 +35,7 @@ TEST_F(AutoPlan, FurnaceSharesFollowTheAlbedoPowers) {
   EXPECT_NEAR(s.mean_albedo, 0.8, 1e-3);
   EXPECT_EQ(s.openness, 0.0f);
   EXPECT_GT(s.analysis_ms, 0.0f);
-  EXPECT_EQ(info.method, BOUNCE_METHOD_SSVP);
+  EXPECT_EQ(info.method, BOUNCE_METHOD_TOPOLOGY);
   EXPECT_NE(std::string(info.plan).find("First bounce 33 % and second 26 %"), std::string::npos) << info.plan;
 }
 
@@ -45,7 +45,7 @@ TEST_F(AutoPlan, DarkRoomSkipsTheBouncesItDoesNotNeed) {
   build_furnace();
   set_albedo(0.02f);
   BounceFrameInfo info = render_auto();
-  EXPECT_EQ(info.method, BOUNCE_METHOD_SSVP);
+  EXPECT_EQ(info.method, BOUNCE_METHOD_TOPOLOGY);
   EXPECT_NE(std::string(info.plan).find("Second bounce 0.0 %: skipped (below 1.0 %)"), std::string::npos) << info.plan;
   settings_.auto_threshold = 0.03f;
   info = render_auto();
@@ -111,8 +111,9 @@ TEST(CostModel, SplitsTheSampleTimeAndScalesWithPixels) {
   EXPECT_NEAR(line.predict(BOUNCE_METHOD_SSVP, 2, 1000)->per_vpl_ms, 0.2, 1e-9);
 }
 
-// A budget buys the VPLs that fill it; below the fixed cost of the second bounce, one bounce; below that of the
-// first, direct light; a plan not measured yet renders as it is.
+// A budget buys the VPLs that fill it; below the fixed cost of the second bounce, one bounce; below Topology's
+// with one, Screen-Space VPL Propagation and its bounces; below those, direct light; a plan not measured yet
+// renders as it is.
 TEST(CostModel, PlanFitsTheBudget) {
   cpu::SceneAnalysis analysis{};
   analysis.direct[0] = 0.5;
@@ -123,37 +124,55 @@ TEST(CostModel, PlanFitsTheBudget) {
   settings.auto_threshold = 0.01f;
   settings.bounces = 2;
   settings.samples = 4;
-  settings.ssvp_vpls = 256;
+  settings.topology_vpls = 1024;
   settings.sample_budget = 150.0f;
   CostModel costs;
   BounceSettings measured = settings;
-  measured.method = BOUNCE_METHOD_SSVP;
-  measured.ssvp_vpls = 100;
+  measured.method = BOUNCE_METHOD_TOPOLOGY;
+  measured.topology_vpls = 100;
   costs.observe(measured, 1, 120.0, 20.0 / 120.0);  // 100 ms + 0.2 ms per VPL
   auto plan = plan_auto(settings, analysis, costs, 1);
+  EXPECT_EQ(plan.settings.method, BOUNCE_METHOD_TOPOLOGY);
   EXPECT_EQ(plan.settings.bounces, 2);
-  EXPECT_EQ(plan.settings.ssvp_vpls, 250);
+  EXPECT_EQ(plan.settings.topology_vpls, 250);
   EXPECT_NEAR(plan.estimated_ms, 150.0, 1e-6);
-  EXPECT_NE(plan.summary.find("Budget 150 ms per sample: 250 first-bounce VPLs, 150 ms."), std::string::npos)
-      << plan.summary;
+  EXPECT_NE(plan.summary.find("Budget 150 ms per sample: 250 VPLs, 150 ms."), std::string::npos) << plan.summary;
 
+  // Below the fewest VPLs the setting offers (64: 112.8 ms), the second bounce goes.
   settings.sample_budget = 90.0f;
   plan = plan_auto(settings, analysis, costs, 1);
   EXPECT_EQ(plan.settings.bounces, 1);
-  EXPECT_EQ(plan.settings.method, BOUNCE_METHOD_SSVP);
-  EXPECT_NE(plan.summary.find("second bounce dropped (103 ms), cost not measured yet"), std::string::npos)
+  EXPECT_EQ(plan.settings.method, BOUNCE_METHOD_TOPOLOGY);
+  EXPECT_NE(plan.summary.find("second bounce dropped (113 ms), cost not measured yet"), std::string::npos)
       << plan.summary;
 
+  // Topology with one bounce does not fit either: Screen-Space VPL Propagation, measured or not, then direct light.
   measured.bounces = 1;
-  costs.observe(measured, 1, 80.0, 20.0 / 80.0);  // 60 ms + 0.2 ms per VPL
-  measured.method = BOUNCE_METHOD_DIRECT;
-  costs.observe(measured, 1, 40.0, 0.0);
+  costs.observe(measured, 1, 80.0, 20.0 / 80.0);  // 60 ms + 0.2 ms per VPL: 72.8 ms at 64
   settings.sample_budget = 0.0f;
   settings.time_limit = 0.2f;  // 50 ms for each of 4 samples
   plan = plan_auto(settings, analysis, costs, 1);
+  EXPECT_EQ(plan.settings.method, BOUNCE_METHOD_SSVP);
+  EXPECT_EQ(plan.settings.bounces, 2);
+  EXPECT_NE(plan.summary.find("second bounce dropped (113 ms), Topology too slow (73 ms), Screen-Space VPL "
+                              "Propagation instead, cost not measured yet"),
+            std::string::npos)
+      << plan.summary;
+
+  measured.method = BOUNCE_METHOD_SSVP;
+  measured.ssvp_vpls = 100;
+  for (int bounces : {1, 2}) {
+    measured.bounces = bounces;
+    costs.observe(measured, 1, 45.0 + 10.0 * bounces, 0.0);  // 55 and 65 ms, whatever the VPLs
+  }
+  measured.method = BOUNCE_METHOD_DIRECT;
+  costs.observe(measured, 1, 40.0, 0.0);
+  plan = plan_auto(settings, analysis, costs, 1);
   EXPECT_EQ(plan.settings.method, BOUNCE_METHOD_DIRECT);
   EXPECT_NEAR(plan.budget_ms, 50.0, 1e-4);
-  EXPECT_NE(plan.summary.find("second bounce dropped (103 ms), bounces dropped (63 ms), direct light 40 ms"),
+  EXPECT_NE(plan.summary.find("second bounce dropped (113 ms), Topology too slow (73 ms), Screen-Space VPL "
+                              "Propagation instead, second bounce dropped (65 ms), bounces dropped (55 ms), direct "
+                              "light 40 ms"),
             std::string::npos)
       << plan.summary;
 }
@@ -165,7 +184,7 @@ TEST_F(AutoPlan, SecondFrameFitsTheBudget) {
   BounceFrameInfo info = render_auto();
   EXPECT_NE(std::string(info.plan).find(" Used "), std::string::npos) << info.plan;
   info = render_auto();
-  EXPECT_NE(std::string(info.plan).find("2048 first-bounce VPLs"), std::string::npos) << info.plan;
+  EXPECT_NE(std::string(info.plan).find("8192 VPLs"), std::string::npos) << info.plan;  // the setting's soft maximum
 }
 
 // Time Limit: a limit shorter than a sample renders one, in one tile or several, and it is the first sample of a

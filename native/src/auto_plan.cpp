@@ -32,18 +32,10 @@ std::string join(const std::vector<std::string>& parts, const char* separator) {
 // The method that renders Auto's bounces. Topology: ray-traced direct light and VPLs traced from every source,
 // with indirect shadows by visibility clusters and gates; at equal wall time the lowest combined error on 8 of the
 // 9 scenes of `scripts/benchmark --suite budget-time` (README, Auto), and the only method that keeps a closed
-// room dark (the two rooms: 0.047 where Screen-Space VPL Propagation, whose shadows come from paraboloid maps of
+// room dark (the two rooms: 0.013 where Screen-Space VPL Propagation, whose shadows come from paraboloid maps of
 // a few clusters, is at 0.52 and direct light alone at 0.20).
 constexpr int32_t kIndirectMethod = BOUNCE_METHOD_TOPOLOGY;
-
-const char* method_name(int32_t method) {
-  return method == BOUNCE_METHOD_TOPOLOGY ? "Topology (VPLs with indirect shadows)" : "Screen-Space VPL Propagation";
-}
-
-// The VPLs a budget may buy: the setting's soft range, so that every plan stays one the user could have set.
-SoftRange vpl_range(int32_t method) {
-  return soft_range(method == BOUNCE_METHOD_TOPOLOGY ? "topology_vpls" : "ssvp_vpls");
-}
+constexpr const char* kIndirectMethodName = "Topology (VPLs with indirect shadows)";
 
 double sample_budget(const BounceSettings& settings) {
   double budget = settings.sample_budget;
@@ -69,20 +61,22 @@ std::string fit_budget(BounceSettings& out, double budget, const CostModel& cost
       parts.push_back("cost not measured yet");
       return head + ": " + join(parts, ", ");
     }
-    int32_t* const vpl_count = vpl_setting(out);
-    if (!vpl_count) {
+    const std::optional<VplSetting> vpl = vpl_setting(out.method);
+    if (!vpl) {
       estimated_ms = cost->at(0);
       parts.push_back("direct light " + milliseconds(estimated_ms));
       return head + ": " + join(parts, ", ");
     }
-    const SoftRange range = vpl_range(out.method);
+    // The VPLs a budget may buy: the setting's soft range, so that every plan stays one the user could have set.
+    const SoftRange range = soft_range(vpl->name);
+    int32_t& vpl_count = out.*vpl->member;
     const double vpls = cost->per_vpl_ms > 0.0     ? (budget - cost->fixed_ms) / cost->per_vpl_ms
-                        : cost->fixed_ms <= budget ? double(*vpl_count)
+                        : cost->fixed_ms <= budget ? double(vpl_count)
                                                    : 0.0;
     if (vpls >= range.min) {
-      *vpl_count = int32_t(std::min(vpls, range.max));
-      estimated_ms = cost->at(*vpl_count);
-      parts.push_back(std::to_string(*vpl_count) +
+      vpl_count = int32_t(std::min(vpls, range.max));
+      estimated_ms = cost->at(vpl_count);
+      parts.push_back(std::to_string(vpl_count) +
                       (out.method == BOUNCE_METHOD_SSVP ? " first-bounce VPLs, " : " VPLs, ") +
                       milliseconds(estimated_ms));
       return head + ": " + join(parts, ", ");
@@ -143,16 +137,17 @@ AutoPlan plan_auto(const BounceSettings& settings, const cpu::SceneAnalysis& ana
     out.bounces = second >= threshold ? 2 : 1;
     if (out.bounces == 2) {
       sentences.push_back("First bounce " + percent(first) + " and second " + percent(second) + ": " +
-                          method_name(out.method));
+                          kIndirectMethodName);
     } else {
-      sentences.push_back("First bounce " + percent(first) + ": " + method_name(out.method));
+      sentences.push_back("First bounce " + percent(first) + ": " + kIndirectMethodName);
       sentences.push_back("Second bounce " + percent(second) + ": skipped" + below);
     }
   }
   // Time saved by what was skipped, where the model has measured the fuller plan.
-  if (const int32_t* vpls = vpl_setting(out); vpls && out.bounces == 1 && second < threshold) {
+  if (const auto vpl = vpl_setting(out.method); vpl && out.bounces == 1 && second < threshold) {
     const auto one = costs.predict(out.method, 1, pixels), two = costs.predict(out.method, 2, pixels);
-    if (one && two) sentences.back() += ", saving " + milliseconds(two->at(*vpls) - one->at(*vpls)) + " a sample";
+    const int32_t vpls = out.*vpl->member;
+    if (one && two) sentences.back() += ", saving " + milliseconds(two->at(vpls) - one->at(vpls)) + " a sample";
   }
   plan.budget_ms = sample_budget(settings);
   if (plan.budget_ms > 0.0) sentences.push_back(fit_budget(out, plan.budget_ms, costs, pixels, plan.estimated_ms));

@@ -25,8 +25,8 @@ void CostModel::observe(const BounceSettings& settings, int64_t pixels, double s
   const double share = std::isfinite(vpl_share) ? std::clamp(vpl_share, 0.0, 1.0) : 0.0;
   const std::lock_guard lock(mutex_);
   std::deque<Observation>& seen = costs_[key_of(settings.method, settings.bounces)];
-  const int32_t* vpls = vpl_setting(settings);
-  seen.push_back({double(vpls ? std::max(*vpls, 1) : 1), sample_ms / double(pixels), share});
+  const std::optional<VplSetting> vpls = vpl_setting(settings.method);
+  seen.push_back({double(vpls ? std::max(settings.*vpls->member, 1) : 1), sample_ms / double(pixels), share});
   if (seen.size() > kKept) seen.pop_front();
 }
 

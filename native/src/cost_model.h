@@ -16,12 +16,15 @@
 namespace bounce {
 
 // The setting a method's sample cost grows with: Topology's VPLs (paths times bounces), SSVP's first-bounce VPLs
-// (the second bounce's follow them); nullptr for a method without one.
-template <typename Settings>
-auto* vpl_setting(Settings& settings) {
-  return settings.method == BOUNCE_METHOD_TOPOLOGY ? &settings.topology_vpls
-         : settings.method == BOUNCE_METHOD_SSVP   ? &settings.ssvp_vpls
-                                                   : nullptr;
+// (the second bounce's follow them); none for the other methods. `name` is its row in settings.def.
+struct VplSetting {
+  int32_t BounceSettings::*member;
+  const char* name;
+};
+inline std::optional<VplSetting> vpl_setting(int32_t method) {
+  if (method == BOUNCE_METHOD_TOPOLOGY) return VplSetting{&BounceSettings::topology_vpls, "topology_vpls"};
+  if (method == BOUNCE_METHOD_SSVP) return VplSetting{&BounceSettings::ssvp_vpls, "ssvp_vpls"};
+  return std::nullopt;
 }
 
 struct SampleCost {

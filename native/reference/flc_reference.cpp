@@ -15,12 +15,11 @@
 
 #include "common/parallel.h"
 #include "cpu/direct_light.h"
+#include "radiometry.h"
 #include "scene_data.h"
 
 namespace bounce::reference {
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 using cpu::mix;
 using cpu::Rng;

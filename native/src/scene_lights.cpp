@@ -6,6 +6,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "passes/light_views.h"
+#include "radiometry.h"
 #include "sampling.h"
 
 namespace bounce {
@@ -22,7 +23,6 @@ using glm::vec3;
 
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 // The world's importance table is the environment averaged down to at most this many texels a side (power is
 // kept; a sun of one pixel keeps its share, spread over one table texel: 0.7 degrees).
 constexpr int kWorldTableWidth = 512, kWorldTableHeight = 256;

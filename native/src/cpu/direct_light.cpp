@@ -10,13 +10,12 @@
 #include <glm/vec2.hpp>
 
 #include "cpu/lambert.h"
+#include "radiometry.h"
 #include "sampling.h"
 #include "scene_data.h"
 
 namespace bounce::cpu {
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 float smoothstep(float edge0, float edge1, float x) {
   const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);

@@ -17,6 +17,7 @@
 #include "cpu/camera_ray.h"
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
+#include "radiometry.h"
 #include "sample_schedule.h"
 #include "sampling.h"
 
@@ -25,7 +26,6 @@ namespace {
 
 using topology::kNoNode;
 
-constexpr float kPi = 3.14159265358979f;
 constexpr int kDepthSlices = 16;           // clustered shading's exponential depth slices (Olsson et al. 2012)
 constexpr float kBackgroundDepth = 1e10f;  // Blender's Depth pass value where nothing is hit
 enum Purpose : uint64_t { kDirectLight = 21, kVplResampling = 22, kVplSample = 23 };

@@ -10,13 +10,13 @@
 #include "common/parallel.h"
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
+#include "radiometry.h"
 #include "sampling.h"
 #include "scene_data.h"
 
 namespace bounce::cpu {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 enum Purpose : uint64_t { kVplPaths = 11 };
 
 glm::vec3 sphere_direction(float u1, float u2) {

@@ -5,10 +5,11 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "radiometry.h"
+
 namespace bounce {
 
 namespace {
-constexpr float kPi = 3.14159265358979f;
 constexpr float kWidestPerspectiveHalfAngle = 75.0f * kPi / 180.0f;
 }  // namespace
 

@@ -6,11 +6,11 @@
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
 #include "error.h"
+#include "radiometry.h"
 
 namespace bounce {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 constexpr uint64_t kTracedDirect = 31;  // random stream of the shadow rays
 
 void read_texture(GLuint texture, std::vector<glm::vec4>& into, int width, int height) {

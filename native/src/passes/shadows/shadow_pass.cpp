@@ -8,6 +8,7 @@
 
 #include "gl/shader.h"
 #include "passes/light_views.h"
+#include "radiometry.h"
 #include "sampling.h"
 #include "scene_data.h"
 
@@ -15,7 +16,6 @@ namespace bounce {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 constexpr double kShadowMemoryBudget = 1024.0 * 1024.0 * 1024.0;
 
 ShadowKind kind_of(const BounceLight& light) {

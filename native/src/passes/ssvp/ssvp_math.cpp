@@ -4,15 +4,14 @@
 #include <cmath>
 #include <limits>
 
+#include <glm/gtc/type_ptr.hpp>
+
+#include "radiometry.h"
 #include "scene_data.h"
 
 namespace bounce::ssvp {
 
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
-
-float luminance(const float* rgb) { return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2]; }
 
 glm::vec2 wrapped(glm::vec2 u) { return u - glm::floor(u); }
 
@@ -66,7 +65,7 @@ std::vector<glm::vec2> disk_set(uint32_t n, glm::vec2 rotation) {
 }
 
 float estimated_flux_into_sphere(const BounceLight& light, glm::vec3 centre, float radius) {
-  const float power = luminance(light.intensity);
+  const float power = luminance(glm::make_vec3(light.intensity));
   if (!(power > 0.0f) || !std::isfinite(power)) return 0.0f;
   if (light.type == BOUNCE_LIGHT_SUN) return power * kPi * radius * radius;  // irradiance x cross-section
   const float distance = glm::length(glm::vec3(light.position[0], light.position[1], light.position[2]) - centre);

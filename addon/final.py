@@ -86,7 +86,7 @@ def _render(engine, depsgraph, reports):
     if info.plan() and kind == session.FINAL:
         print(f"Bounce: {auto_line(info)}: {info.plan()}")
     if info.noise_relmse >= 0.0 and kind == session.FINAL:
-        print(f"Bounce: {noise_line(last_render['noise'])}")
+        print(f"Bounce: {error_line(last_render['error'], info.bias_relmse)}")
     if info.method == native.METHOD_TOPOLOGY and kind == session.FINAL:
         topology = current.engine.topology_info()
         built = "built" if topology.builds > builds_before else "from the cache"
@@ -181,17 +181,20 @@ def method_text(info, indirect):
     return "".join(f" | {text}" for text in (auto_line(info) if info.plan() else "", indirect) if text)
 
 
-def noise_forecast(noise_relmse, samples, seconds, factors=(1, 2, 4, 8)):
+def error_forecast(noise_relmse, bias_relmse, samples, seconds, factors=(1, 2, 4, 8)):
     """[(samples, seconds, relMSE), ...] for `factors` times the samples of a render whose noise was estimated at
-    `noise_relmse` (native/src/noise_estimate.h): noise falls as 1 / samples, time grows with them."""
-    return [(samples * k, seconds * k, noise_relmse / k) for k in factors]
+    `noise_relmse` (native/src/noise_estimate.h) and whose plan accepts `bias_relmse` (Auto; below 0: unknown,
+    counted as none): noise falls as 1 / samples, the bias stays, time grows with the samples."""
+    bias = max(bias_relmse, 0.0)
+    return [(samples * k, seconds * k, noise_relmse / k + bias) for k in factors]
 
 
-def noise_line(forecast):
-    """One line on what a render's noise is and what 4 times its samples would buy."""
+def error_line(forecast, bias_relmse):
+    """One line on the error a render is estimated to have and what 4 times its samples would buy."""
     samples, relmse = forecast[0][0], forecast[0][2]
     more, more_seconds, less = forecast[2]
-    return (f"noise relMSE {relmse:.2g} (estimated) after {samples} samples; {more} samples "
+    parts = f"noise {relmse - bias_relmse:.2g}, bias {bias_relmse:.2g}" if bias_relmse >= 0.0 else "noise only"
+    return (f"error relMSE {relmse:.2g} (estimated: {parts}) after {samples} samples; {more} samples "
             f"(about {more_seconds:.3g} s): {less:.2g}")
 
 
@@ -221,4 +224,6 @@ def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
         lights=scene_stats.light_count, skipped_lights=scene_stats.skipped_lights,
         meshes=scene_stats.mesh_count, instances=scene_stats.instance_count, gpu_bytes=scene_stats.gpu_bytes,
         indirect=indirect, plan=info.plan(), analysis_ms=info.shares.analysis_ms,
-        noise=noise_forecast(info.noise_relmse, info.samples, render_seconds) if info.noise_relmse >= 0.0 else None)
+        error=(error_forecast(info.noise_relmse, info.bias_relmse, info.samples, render_seconds)
+               if info.noise_relmse >= 0.0 else None),
+        noise_relmse=info.noise_relmse, bias_relmse=info.bias_relmse)

@@ -125,13 +125,16 @@ class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
         if info["dropped_triangles"] or info["skipped_lights"]:
             col.label(text=f"Dropped {info['dropped_triangles']:,} triangles, skipped {info['skipped_lights']} "
                            "lights", icon="ERROR")
-        if info.get("noise"):
-            # What accuracy costs: the estimated noise now and for more samples (its measure is the benchmarks').
-            layout.label(text="Noise (estimated relMSE) for more samples", icon="TIME")
+        if info.get("error"):
+            # What accuracy costs: the estimated error now and for more samples (its measure is the benchmarks').
+            layout.label(text="Error (estimated relMSE) for more samples", icon="TIME")
+            if info["bias_relmse"] >= 0.0:
+                layout.label(text=f"Of it {info['bias_relmse']:.2g} is what the plan left out or its method's bias: "
+                                  "more samples keep it")
             grid = layout.grid_flow(row_major=True, columns=3, even_columns=True, align=True)
             for label in ("Samples", "Time", "relMSE"):
                 grid.label(text=label)
-            for samples, seconds, relmse in info["noise"]:
+            for samples, seconds, relmse in info["error"]:
                 grid.label(text=f"{samples}")
                 grid.label(text=f"{seconds:.3g} s")
                 grid.label(text=f"{relmse:.2g}")

@@ -282,7 +282,8 @@ def main(argv=None):
                 records += [dict({"width": width, "height": height}, **r, scene=scene.name, role="measure")
                             for r in runner.run_script(scene, runner.HERE / suite.script,
                                                        dict(config, width=width, height=height,
-                                                            images=str(out / "renders")), out / "logs")]
+                                                            images=str(out / "renders")), out / "logs",
+                                                       (width, height) if suite.gui else None)]
 
     with open(out / "records.jsonl", "w") as f:
         f.writelines(json.dumps(r) + "\n" for r in records)

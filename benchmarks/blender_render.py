@@ -241,6 +241,9 @@ def render_once(scene, job, records, meta, progress, exr=None):
             record["topology"] = info["topology"]
         if info.get("plan"):
             record.update(plan=info["plan"], analysis_ms=info["analysis_ms"])
+        if info.get("error"):  # the render's own estimate of its error, checked against the oracle's
+            record.update(estimated_relmse=info["error"][0][2], noise_relmse=info["noise_relmse"],
+                          bias_relmse=info["bias_relmse"])
     if exr:
         save_exr(scene, exr)
         record["exr"] = exr

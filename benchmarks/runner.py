@@ -125,10 +125,14 @@ def dragon_scene(copies, instancing, cache):
     return Scene(name, blend, key, triangles_hint=copies * 100_000 + 2)
 
 
-def blender_command(blend, jobs_file, script=RENDER_SCRIPT):
+def blender_command(blend, jobs_file, script=RENDER_SCRIPT, screen=None):
+    """Blender in the background, or with its GUI on an Xvfb screen of `screen` (width, height)."""
     scene = [str(blend)] if blend else ["--factory-startup"]
-    return [str(REPO / "scripts" / "blender"), "-b", *scene, "--python-exit-code", "1",
-            "--python", str(script), "--", str(jobs_file)]
+    blender = [str(REPO / "scripts" / "blender"), *scene, "--python-exit-code", "1", "--python", str(script), "--",
+               str(jobs_file)]
+    if screen is None:
+        return blender[:1] + ["-b"] + blender[1:]
+    return ["xvfb-run", "-a", "-s", f"-screen 0 {screen[0]}x{screen[1]}x24"] + blender
 
 
 def run_blender(scene, jobs, work, info=None):
@@ -142,9 +146,9 @@ def run_blender(scene, jobs, work, info=None):
                                              "extra_triangles": scene.extra_triangles, "jobs": jobs}, work)
 
 
-def run_script(scene, script, config, work):
+def run_script(scene, script, config, work, screen=None):
     """Runs a Blender-side benchmark `script` on `scene` with `config` (plus "records": the file it appends JSON
-    lines to); returns those records. Progress lines pass through."""
+    lines to), in the background or on an Xvfb `screen`; returns those records. Progress lines pass through."""
     work.mkdir(parents=True, exist_ok=True)
     stem = f"{scene.name}-{int(time.time() * 1000) % 10**9}"
     records_file = work / f"{stem}.records.jsonl"
@@ -154,7 +158,7 @@ def run_script(scene, script, config, work):
     logfile = work / f"{stem}.log"
     env = dict(os.environ, BOUNCE_BUILD_DIR=str(BUILD))
     with open(logfile, "w") as out:
-        process = subprocess.Popen(blender_command(scene.blend, jobs_file, script), cwd=REPO, env=env, text=True,
+        process = subprocess.Popen(blender_command(scene.blend, jobs_file, script, screen), cwd=REPO, env=env, text=True,
                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, errors="replace")
         for line in process.stdout:
             out.write(line)

@@ -35,6 +35,8 @@ class Suite:
                                                     # `method` (each still swept over `sets`)
     script: str = None                              # a Blender script of benchmarks/ run on each scene instead
     script_config: dict = field(default_factory=dict)  # of the render jobs, and its config ("quick": overrides)
+    gui: bool = False                               # the script runs in Blender's GUI on an Xvfb screen of the
+                                                    # scene's size
     report: object = None
 
 
@@ -347,6 +349,48 @@ def _table2_picture(records, path, title):
     report.save(fig, path, title)
 
 
+def sample_times(frames):
+    """Milliseconds per sample between a viewport render's frames, from the time per sample so far each says it
+    used ("Used N ms", the render thread's clock); the first frame (scene sync, restart) left out."""
+    import re
+    used = [(f["samples"], float(m.group(1))) for f in frames if (m := re.search(r"Used (\d+) ms", f["plan"]))]
+    return [(b_ms * b - a_ms * a) / (b - a) for (a, a_ms), (b, b_ms) in zip(used, used[1:]) if b > a]
+
+
+def viewport_budget_report(ctx, records, _stages):
+    """Auto's viewport samples against each Sample Budget: the plan, the median time per sample, and whether it
+    is within 20 % of the budget (issue 17's goal); a plot of every sample's time."""
+    import re
+    import statistics
+    rows, measured = [], [r for r in records if r.get("render") == "measured"]
+    for r in measured:
+        times = sample_times(r["frames"])
+        plans = [re.sub(r" Used \d+ ms\.$", "", f["plan"]) for f in r["frames"][1:]]
+        median = statistics.median(times) if times else float("nan")
+        rows.append({"scene": r["scene"], "region": f"{r['region_width']}x{r['region_height']}",
+                     "budget ms": r["budget_ms"], "samples timed": len(times), "median ms per sample": median,
+                     "median / budget": median / r["budget_ms"],
+                     "within 20 %": "yes" if abs(median / r["budget_ms"] - 1.0) <= 0.2 else "NO",
+                     "plan (most frames)": max(set(plans), key=plans.count) if plans else ""})
+    plt = report.pyplot()
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for index, r in enumerate(measured):
+        times = sample_times(r["frames"])
+        ax.plot(range(2, 2 + len(times)), times, marker=".", color=f"C{index}", label=f"budget {r['budget_ms']} ms")
+        ax.axhline(r["budget_ms"], color=f"C{index}", linestyle=":", linewidth=1)
+    ax.set(yscale="log", xlabel="frame seen", ylabel="ms per sample (between frames seen)",
+           title="Auto in the viewport: time per sample against the Sample Budget (dotted)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    report.save(fig, ctx.out / f"{ctx.suite.name}.png", ctx.title)
+    met = sum(1 for row in rows if row["within 20 %"] == "yes")
+    return "\n".join([report.markdown(rows, list(rows[0])) if rows else "No viewport render finished.", "",
+                      f"Within 20 % of the budget on {met} of {len(rows)} budgets. The time per sample is the "
+                      "render thread's, between the frames the script saw (the first, which pays the scene sync "
+                      "and the restart, left out), in the second render at each budget: the first taught the cost "
+                      "model the plans it had not measured (as a viewport restarts whenever the view moves)."])
+
+
 def topology_report(ctx, records, _stages):
     """Table II (MSE per indirect visibility), the precomputation per stage and the preview time per VPL count."""
     part = lambda name: [r for r in records if r.get("part") == name]  # noqa: E731
@@ -521,6 +565,11 @@ SUITES = {s.name: s for s in (
                                    "resolutions": [64], "accuracy": {"topology_resolution": 64, "topology_vpls": 256},
                                    "preview": {"width": 128, "height": 64, "vpls": [256], "repeats": 1}}},
           report=topology_report),
+    Suite("viewport-budget", "Auto's Sample Budget in a real viewport (Blender's GUI on Xvfb, Rendered shading "
+          "through the scene's camera): time per progressive sample against budgets of 150, 300 and 600 ms", "AUTO",
+          [("cornell", 800, 500)], [("cornell", 640, 400)], errors=False, script="viewport_budget.py", gui=True,
+          script_config={"budgets": [150, 300, 600], "samples": 24, "quick": {"samples": 8}},
+          report=viewport_budget_report),
     Suite("budget", "error budget per light path against Cycles (direct, first and second bounce, combined): the "
           "ratio of means over the image and its thirds and relMSE, per method, a picture of the signed errors, a "
           "bias check, and the light leaking into a closed room", "DIRECT", _BUDGET_SCENES, _QUICK_BUDGET_SCENES,

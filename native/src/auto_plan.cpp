@@ -23,6 +23,9 @@ std::string milliseconds(double ms) {
   return text;
 }
 
+// How a plan's VPLs are named: SSVP's are its first bounce's.
+const char* vpl_words(int32_t method) { return method == BOUNCE_METHOD_SSVP ? " first-bounce VPLs" : " VPLs"; }
+
 std::string join(const std::vector<std::string>& parts, const char* separator) {
   std::string out;
   for (const std::string& part : parts) out += (out.empty() ? "" : separator) + part;
@@ -46,18 +49,25 @@ double sample_budget(const BounceSettings& settings) {
   return budget;
 }
 
-// Fits `out` (a plan with VPLs, or DIRECT) into `budget` ms per sample: the VPLs that fill it, else one bounce
+// Fits `out` (a plan with VPLs, or DIRECT) to `budget` ms per sample: the VPLs that fill it, else one bounce
 // fewer; where Topology does not fit with one bounce, Screen-Space VPL Propagation with the planned bounces (whose
 // cost grows with the GPU where Topology's grows with the CPU cores), and its bounces in turn, down to direct
-// light. Returns the sentence that says how.
+// light. The budget is a target, not a ceiling: where direct light falls further below it than the cheapest plan
+// with a bounce (at its fewest VPLs) rises above it, that plan renders. A plan not measured yet renders at its
+// fewest VPLs. Returns the sentence that says how.
 std::string fit_budget(BounceSettings& out, double budget, const CostModel& costs, int64_t pixels,
                        double& estimated_ms) {
   const std::string head = "Budget " + milliseconds(budget) + " per sample";
   const int32_t planned_bounces = out.bounces;
   std::vector<std::string> parts;
+  std::optional<BounceSettings> cheapest_over;  // the cheapest plan with a bounce that did not fit
+  double cheapest_over_ms = 0.0;
   while (true) {
     const std::optional<SampleCost> cost = costs.predict(out.method, out.bounces, pixels);
     if (!cost) {
+      // Measured at its fewest VPLs: the cheapest frame that teaches the model, the nearest the budget can be.
+      if (const std::optional<VplSetting> vpl = vpl_setting(out.method))
+        out.*vpl->member = int32_t(soft_range(vpl->name).min);
       parts.push_back("cost not measured yet");
       return head + ": " + join(parts, ", ");
     }
@@ -65,6 +75,15 @@ std::string fit_budget(BounceSettings& out, double budget, const CostModel& cost
     if (!vpl) {
       estimated_ms = cost->at(0);
       parts.push_back("direct light " + milliseconds(estimated_ms));
+      if (cheapest_over && cheapest_over_ms / budget < budget / estimated_ms) {
+        out = *cheapest_over;
+        estimated_ms = cheapest_over_ms;
+        parts.push_back("nearer the budget: " +
+                        std::string(out.method == BOUNCE_METHOD_SSVP ? "Screen-Space VPL Propagation" : "Topology") +
+                        (out.bounces >= 2 ? " with two bounces at " : " with one bounce at ") +
+                        std::to_string(out.*vpl_setting(out.method)->member) + vpl_words(out.method) + ", " +
+                        milliseconds(estimated_ms));
+      }
       return head + ": " + join(parts, ", ");
     }
     // The VPLs a budget may buy: the setting's soft range, so that every plan stays one the user could have set.
@@ -76,12 +95,16 @@ std::string fit_budget(BounceSettings& out, double budget, const CostModel& cost
     if (vpls >= range.min) {
       vpl_count = int32_t(std::min(vpls, range.max));
       estimated_ms = cost->at(vpl_count);
-      parts.push_back(std::to_string(vpl_count) +
-                      (out.method == BOUNCE_METHOD_SSVP ? " first-bounce VPLs, " : " VPLs, ") +
-                      milliseconds(estimated_ms));
+      parts.push_back(std::to_string(vpl_count) + vpl_words(out.method) + ", " + milliseconds(estimated_ms));
       return head + ": " + join(parts, ", ");
     }
-    const std::string fewest = " (" + milliseconds(cost->at(int(range.min))) + ")";
+    const double fewest_ms = cost->at(int(range.min));
+    if (!cheapest_over || fewest_ms < cheapest_over_ms) {
+      cheapest_over = out;
+      (*cheapest_over).*vpl->member = int32_t(range.min);
+      cheapest_over_ms = fewest_ms;
+    }
+    const std::string fewest = " (" + milliseconds(fewest_ms) + ")";
     if (out.bounces >= 2) {
       parts.push_back("second bounce dropped" + fewest);
       out.bounces = 1;
@@ -96,7 +119,39 @@ std::string fit_budget(BounceSettings& out, double budget, const CostModel& cost
   }
 }
 
+// The error a plan accepts: what it leaves out counts whole, what it simulates by its method's bias class.
+double accepted_error(const BounceSettings& out, const cpu::SceneAnalysis& analysis) {
+  const BiasClass bias = bias_class(out.method);
+  const int32_t bounces = out.method == BOUNCE_METHOD_DIRECT ? 0 : out.bounces;
+  double error = bias.direct * analysis.error_weight_direct;
+  if (bounces >= 2)
+    error += bias.bounces * analysis.error_weight_bounces;
+  else
+    error += (bounces == 1 ? bias.bounces : 1.0) * analysis.error_weight_first + analysis.error_weight_second;
+  const int32_t source_lights[cpu::kLightSourceCount] = {1, out.world_lights, out.emission_lights};
+  for (int c = 0; c < cpu::kLightSourceCount; ++c)
+    if (source_lights[c] == 0) error += analysis.error_weight_source[c];
+  return error;
+}
+
 }  // namespace
+
+BiasClass bias_class(int32_t method) {
+  // Measured by `scripts/benchmark --suite budget-time --quick` against Cycles with two bounces (README, Auto):
+  // the median over the suite's 12 scenes of a component's bias (its relMSE at 1 and 4 samples extrapolated to
+  // infinitely many, as B + V / N) over its error weight. Topology's bounces: clustered visibility, VPL clamping and
+  // the VPLs a sun spreads over the scene (0.05-0.5 by scene); SSVP's: paraboloid visibility of a few clusters
+  // (0.02-4.5, the closed room of the two rooms the worst). Direct light is ray traced (Topology) or from shadow
+  // maps (SSVP, direct light only): a median of 0, up to 0.2 and 0.56 on the sunlit rooms.
+  switch (method) {
+    case BOUNCE_METHOD_TOPOLOGY:
+      return {0.0, 0.11};
+    case BOUNCE_METHOD_SSVP:
+      return {0.0, 0.29};
+    default:
+      return {0.0, 0.0};
+  }
+}
 
 AutoPlan plan_auto(const BounceSettings& settings, const cpu::SceneAnalysis& analysis, const CostModel& costs,
                    int64_t pixels) {
@@ -152,6 +207,7 @@ AutoPlan plan_auto(const BounceSettings& settings, const cpu::SceneAnalysis& ana
   plan.budget_ms = sample_budget(settings);
   if (plan.budget_ms > 0.0) sentences.push_back(fit_budget(out, plan.budget_ms, costs, pixels, plan.estimated_ms));
   plan.summary = join(sentences, ". ") + ".";
+  plan.bias_relmse = accepted_error(out, analysis);
   BounceLightShares& shares = plan.shares;
   for (int c = 0; c < cpu::kLightSourceCount; ++c) {
     shares.direct[c] = float(analysis.share(analysis.direct[c]));

@@ -17,7 +17,18 @@ struct AutoPlan {
   double estimated_ms = 0.0;  // the cost model's estimate of a sample of the plan; 0 before one was measured
   std::string summary;        // e.g. "Lamps 61 %, world 38 % of the light. Emission 0.4 %: skipped (below 1.0 %).
                               // First bounce 27 %: Screen-Space VPL Propagation. Second bounce 0.6 %: skipped ..."
+  // The error the plan accepts, as relMSE, which more samples do not remove: each effect left out by its error
+  // weight (cpu::SceneAnalysis), each simulated one by its error weight times its method's bias class. -1 for an
+  // explicit method.
+  double bias_relmse = -1.0;
 };
+
+// A method's bias class: the squared relative error per pixel its converged image keeps against the Cycles
+// oracle, in its direct light and in its bounces (the relMSE of a component over its error weight).
+struct BiasClass {
+  double direct, bounces;
+};
+BiasClass bias_class(int32_t method);
 
 // An effect (a light source class, a bounce) whose estimated share of the image is below settings.auto_threshold
 // is not simulated: a source class by drawing none of its lights (World Directions or Emissive Triangles 0, and

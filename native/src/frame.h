@@ -30,9 +30,10 @@ struct Frame {
   uint32_t held = 0;  // bits 1 << aov of the AOVs allocated (method_aovs)
   std::array<std::vector<float>, BOUNCE_AOV_COUNT> aovs;
   BounceFrameInfo info = [] {
-    BounceFrameInfo unknown_noise{};
-    unknown_noise.noise_relmse = -1.0f;  // until a render estimates it
-    return unknown_noise;
+    BounceFrameInfo unknown_error{};
+    unknown_error.noise_relmse = -1.0f;  // until a render estimates it
+    unknown_error.bias_relmse = -1.0f;   // until Auto plans the frame
+    return unknown_error;
   }();
 
   void allocate(int w, int h, uint32_t aov_bits) {

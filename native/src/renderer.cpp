@@ -79,6 +79,7 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
     const std::string used = plan.budget_ms > 0.0 ? " Used " + std::to_string(std::lround(sample_ms)) + " ms." : "";
     std::snprintf(frame->info.plan, sizeof frame->info.plan, "%s", (plan.summary + used).c_str());
     frame->info.shares = plan.shares;
+    frame->info.bias_relmse = float(plan.bias_relmse);
     callbacks.publish(std::move(frame));
   };
   const bool finished = render_method(plan.settings, camera, annotated);

@@ -33,10 +33,13 @@ def test_auto_plans_what_the_scene_calls_for(case, blender, out_dir):
     if method:
         assert chosen == method, plan
     assert re.search(pattern, plan), plan
-    noise = re.findall(r"^Bounce: noise relMSE (\S+) \(estimated\) after 4 samples; 16 samples", result.output, re.M)
-    assert len(noise) == 1, f"one noise line expected\n{result.describe()}"
-    assert float(noise[0]) >= 0.0
-    record(f"auto.{case}.noise_relmse", float(noise[0]))
+    error = re.findall(r"^Bounce: error relMSE (\S+) \(estimated: noise (\S+), bias (\S+)\) after 4 samples; 16 samples",
+                       result.output, re.M)
+    assert len(error) == 1, f"one error line expected\n{result.describe()}"
+    total, noise, bias = (float(v) for v in error[0])
+    assert total >= 0.0 and noise >= 0.0 and bias >= 0.0
+    record(f"auto.{case}.estimated_relmse", total)
+    record(f"auto.{case}.bias_relmse", bias)
     channels = read_exr(info["exr"])
     for name in ("Indirect", "Second Bounce"):
         assert np.all(np.isfinite(layer_pass(channels, name))), f"{name} is not finite"
@@ -55,7 +58,7 @@ def test_time_limit_ends_a_final_render(blender, out_dir):
     result, info = run_case(blender, "auto_time_limit", out_dir, "AUTO")
     plan = re.findall(r"^Bounce: Auto: .+?: (.+)$", result.output, re.M)[0]
     assert "Budget 0 ms per sample" in plan, plan
-    samples = re.findall(r"^Bounce: noise relMSE \S+ \(estimated\) after (\d+) samples", result.output, re.M)
+    samples = re.findall(r"^Bounce: error relMSE \S+ \(estimated: .+?\) after (\d+) samples", result.output, re.M)
     assert len(samples) == 1, result.describe()
     record("auto.time_limit.samples", int(samples[0]))
     assert 1 < int(samples[0]) < 65536

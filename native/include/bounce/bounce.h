@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 9
+#define BOUNCE_API_VERSION 10
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,
@@ -345,6 +345,9 @@ typedef struct BounceFrameInfo {
   float noise_relmse;           /* the noise its samples left, estimated as the benchmarks' relMSE (mean of
                                    (x - r)^2 / (r^2 + 0.01) over the RGB values of Combined, r the converged image):
                                    native/src/noise_estimate.h; -1 where unknown (one sample, or a tiled render) */
+  float bias_relmse;            /* AUTO: the error its plan accepts in the same measure, which more samples do not
+                                   remove: what it left out, and its method's bias class on what it simulates
+                                   (native/src/auto_plan.h); -1 otherwise */
 } BounceFrameInfo;
 
 /* The most recently published frame: after each progressive sample of a render (viewport) and at its end.

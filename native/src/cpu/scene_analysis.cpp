@@ -12,25 +12,75 @@
 #include "cpu/camera_ray.h"
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
+#include "radiometry.h"
 #include "sampling.h"
 
 namespace bounce::cpu {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 constexpr int kProbes = 1024;               // probe pixels, in a grid of the image's aspect
 constexpr int kPathsPerProbe = 2;           // cosine-distributed paths from each probe's surface, two bounces long
 constexpr std::size_t kLightsPerClass = 4;  // lights of a class evaluated per vertex; more are drawn uniformly
 enum Purpose : uint64_t { kProbe = 31 };
 
-double luminance(glm::vec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+using PerSource = std::array<double, kLightSourceCount>;
 
 struct ProbeResult {
-  std::array<double, kLightSourceCount> direct{}, first_bounce{};
-  double second_bounce = 0.0, emission = 0.0, background = 0.0, albedo = 0.0;
+  PerSource direct{};
+  std::array<PerSource, kPathsPerProbe> first_bounce{}, second_bounce{};  // per path
+  double emission = 0.0, background = 0.0, albedo = 0.0;
   int escaped = 0;
   bool hit = false;
+
+  double direct_total() const { return direct[0] + direct[1] + direct[2]; }
+  double first_total(int p) const { return first_bounce[p][0] + first_bounce[p][1] + first_bounce[p][2]; }
+  double second_total(int p) const { return second_bounce[p][0] + second_bounce[p][1] + second_bounce[p][2]; }
+  double source_total(int c, int p) const { return direct[c] + first_bounce[p][c] + second_bounce[p][c]; }
+  double bounces_mean() const {
+    double sum = 0.0;
+    for (int p = 0; p < kPathsPerProbe; ++p) sum += first_total(p) + second_total(p);
+    return sum / kPathsPerProbe;
+  }
 };
+
+// Error weights (SceneAnalysis) over square blocks of kErrorBlock probes a side: the light a component brings is
+// squared as the product of the block's means over two halves of its paths (even and odd), independent, so that
+// the paths' noise does not count as light; a bounce's light is smooth at that scale where one probe's two paths
+// are too few (a room lit through a doorway: most paths find nothing). The image it is weighed against is each
+// probe's own direct light and what it sees, plus its block's mean bounces.
+constexpr int kErrorBlock = 4;
+static_assert(kPathsPerProbe % 2 == 0, "the error weights need two halves of the paths");
+
+// `of(probe, path)`: the light of a component along a path; the sum over the probes of its error weight.
+template <class Of>
+double error_weight_sum(const std::vector<ProbeResult>& results, int columns, int rows, Of of) {
+  double sum = 0.0;
+  for (int by = 0; by < rows; by += kErrorBlock)
+    for (int bx = 0; bx < columns; bx += kErrorBlock) {
+      const auto each = [&](auto visit) {
+        for (int y = by; y < std::min(rows, by + kErrorBlock); ++y)
+          for (int x = bx; x < std::min(columns, bx + kErrorBlock); ++x)
+            visit(results[std::size_t(y) * std::size_t(columns) + std::size_t(x)]);
+      };
+      double even = 0.0, odd = 0.0, bounces = 0.0;
+      int count = 0;
+      each([&](const ProbeResult& r) {
+        for (int p = 0; p < kPathsPerProbe; p += 2) {
+          even += of(r, p);
+          odd += of(r, p + 1);
+        }
+        bounces += r.bounces_mean();
+        ++count;
+      });
+      const double halves = double(count) * (kPathsPerProbe / 2);
+      const double light_squared = (even / halves) * (odd / halves);
+      each([&](const ProbeResult& r) {
+        const double image = r.direct_total() + r.emission + r.background + bounces / count;
+        sum += light_squared / (image * image + 0.01);
+      });
+    }
+  return sum;
+}
 
 // Direct irradiance at (y, n) from each source class: every light of a class with at most kLightsPerClass, else
 // that many drawn uniformly (with replacement) and scaled, an unbiased estimate with a bounded number of rays.
@@ -110,12 +160,12 @@ SceneAnalysis analyse_scene(const CpuScene& scene, const AnalysisLights& lights,
         continue;
       }
       const auto ey = irradiance(y->position, y->shading_normal, rng);
-      for (int c = 0; c < kLightSourceCount; ++c)
-        r.first_bounce[c] += luminance(x.albedo * y->albedo * ey[c] / kPi) / kPathsPerProbe;
+      for (int c = 0; c < kLightSourceCount; ++c) r.first_bounce[p][c] = luminance(x.albedo * y->albedo * ey[c] / kPi);
       const auto z = bounce_from(*y, rng);
       if (!z) continue;
       const auto ez = irradiance(z->position, z->shading_normal, rng);
-      r.second_bounce += luminance(x.albedo * y->albedo * z->albedo * (ez[0] + ez[1] + ez[2]) / kPi) / kPathsPerProbe;
+      for (int c = 0; c < kLightSourceCount; ++c)
+        r.second_bounce[p][c] = luminance(x.albedo * y->albedo * z->albedo * ez[c] / kPi);
     }
   });
 
@@ -124,9 +174,9 @@ SceneAnalysis analyse_scene(const CpuScene& scene, const AnalysisLights& lights,
   for (const ProbeResult& r : results) {
     for (int c = 0; c < kLightSourceCount; ++c) {
       analysis.direct[c] += r.direct[c];
-      analysis.first_bounce[c] += r.first_bounce[c];
+      for (int p = 0; p < kPathsPerProbe; ++p) analysis.first_bounce[c] += r.first_bounce[p][c] / kPathsPerProbe;
     }
-    analysis.second_bounce += r.second_bounce;
+    for (int p = 0; p < kPathsPerProbe; ++p) analysis.second_bounce += r.second_total(p) / kPathsPerProbe;
     analysis.emission_seen += r.emission;
     analysis.background_seen += r.background;
     analysis.mean_albedo += r.albedo;
@@ -137,10 +187,17 @@ SceneAnalysis analyse_scene(const CpuScene& scene, const AnalysisLights& lights,
     }
   }
   const double n = double(results.size());
+  const auto error_weight = [&](auto of) { return error_weight_sum(results, columns, rows, of) / n; };
   for (int c = 0; c < kLightSourceCount; ++c) {
     analysis.direct[c] /= n;
     analysis.first_bounce[c] /= n;
+    analysis.error_weight_source[c] = error_weight([c](const ProbeResult& r, int p) { return r.source_total(c, p); });
   }
+  analysis.error_weight_direct = error_weight([](const ProbeResult& r, int) { return r.direct_total(); });
+  analysis.error_weight_first = error_weight([](const ProbeResult& r, int p) { return r.first_total(p); });
+  analysis.error_weight_second = error_weight([](const ProbeResult& r, int p) { return r.second_total(p); });
+  analysis.error_weight_bounces =
+      error_weight([](const ProbeResult& r, int p) { return r.first_total(p) + r.second_total(p); });
   analysis.second_bounce /= n;
   analysis.emission_seen /= n;
   analysis.background_seen /= n;

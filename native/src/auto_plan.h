@@ -23,12 +23,9 @@ struct AutoPlan {
   double bias_relmse = -1.0;
 };
 
-// A method's bias class: the squared relative error per pixel its converged image keeps against the Cycles
-// oracle, in its direct light and in its bounces (the relMSE of a component over its error weight).
-struct BiasClass {
-  double direct, bounces;
-};
-BiasClass bias_class(int32_t method);
+// A method's bias class: the squared relative error per pixel its converged bounces keep against the Cycles
+// oracle (their relMSE over their error weight); 0 for a method without bounces.
+double bounce_bias(int32_t method);
 
 // An effect (a light source class, a bounce) whose estimated share of the image is below settings.auto_threshold
 // is not simulated: a source class by drawing none of its lights (World Directions or Emissive Triangles 0, and

@@ -193,7 +193,6 @@ SceneAnalysis analyse_scene(const CpuScene& scene, const AnalysisLights& lights,
     analysis.first_bounce[c] /= n;
     analysis.error_weight_source[c] = error_weight([c](const ProbeResult& r, int p) { return r.source_total(c, p); });
   }
-  analysis.error_weight_direct = error_weight([](const ProbeResult& r, int) { return r.direct_total(); });
   analysis.error_weight_first = error_weight([](const ProbeResult& r, int p) { return r.first_total(p); });
   analysis.error_weight_second = error_weight([](const ProbeResult& r, int p) { return r.second_total(p); });
   analysis.error_weight_bounces =

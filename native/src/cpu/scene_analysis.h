@@ -30,7 +30,6 @@ struct SceneAnalysis {
   // The relMSE (the benchmarks' measure, mean of (x - r)^2 / (r^2 + 0.01) per pixel) that an error of 100 % in a
   // component would leave: the mean over the probes of its square over the square of the probe's whole image plus
   // 0.01. Unlike a share it weights the dark pixels a bounce alone lights, as relMSE does.
-  double error_weight_direct = 0.0;                    // every source
   double error_weight_first = 0.0;                     // every source
   double error_weight_second = 0.0;                    // every source
   double error_weight_bounces = 0.0;                   // both bounces together, every source

@@ -28,22 +28,11 @@ DEADLINE = time.perf_counter() + 60.0 + 30.0 * len(CONFIG["budgets"]) * CONFIG["
 state = {"renders": [(render, b) for b in CONFIG["budgets"] for render in ("warm-up", "measured")]}
 
 
-def view_3d():
-    window = bpy.context.window_manager.windows[0]
-    area = max((a for a in window.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    return window, area, next(r for r in area.regions if r.type == "WINDOW")
-
-
-def session():
-    sessions = bl_common.addon_module("session").viewport_sessions()
-    return sessions[0] if sessions else None
-
-
 def setup():
-    window, area, _region = view_3d()
+    window, area, _region = bl_common.view_3d()
     with bpy.context.temp_override(window=window, area=area):
         bpy.ops.screen.screen_full_area(use_hide_panels=True)
-    _window, area, _region = view_3d()
+    _window, area, _region = bl_common.view_3d()
     space = area.spaces.active
     space.overlay.show_overlays = False
     space.show_gizmo = False
@@ -61,7 +50,7 @@ def start(render, budget):
     settings = bpy.context.scene.bounce
     settings.viewport_sample_budget = budget
     settings.seed += 1
-    _window, area, region = view_3d()
+    _window, area, region = bl_common.view_3d()
     area.tag_redraw()
     state["current"] = {"render": render, "budget_ms": budget, "region_width": region.width,
                         "region_height": region.height, "frames": [], "serial": None}
@@ -70,7 +59,7 @@ def start(render, budget):
 
 def poll():
     """Records each new frame of the current render; True once it has all its samples."""
-    current, render = session(), state["current"]
+    current, render = bl_common.viewport_session(), state["current"]
     if current is None:
         return False
     native = bl_common.addon_module("native")

@@ -28,6 +28,19 @@ def version():
     return tuple(bpy.app.version)
 
 
+def view_3d():
+    """(window, area, region): the first window, its largest 3D view and that view's drawing region (GUI Blender)."""
+    window = bpy.context.window_manager.windows[0]
+    area = max((a for a in window.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
+    return window, area, next(r for r in area.regions if r.type == "WINDOW")
+
+
+def viewport_session():
+    """The add-on's session of the viewport's render engine, None while Rendered shading has not started one."""
+    sessions = addon_module("session").viewport_sessions()
+    return sessions[0] if sessions else None
+
+
 def load_json(path):
     with open(path) as f:
         return json.load(f)

@@ -27,20 +27,8 @@ TICK = 0.02
 result = {"steps": []}
 
 
-def view_3d():
-    window = bpy.context.window_manager.windows[0]
-    area = max((a for a in window.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    region = next(r for r in area.regions if r.type == "WINDOW")
-    return window, area, region
-
-
-def viewport_session():
-    sessions = bl_common.addon_module("session").viewport_sessions()
-    return sessions[0] if sessions else None
-
-
 def rendered_and_drawn():
-    current = viewport_session()
+    current = bl_common.viewport_session()
     if current is None:
         return False
     progress = current.engine.render_progress()
@@ -50,7 +38,7 @@ def rendered_and_drawn():
 
 
 def capture(path):
-    window, area, _region = view_3d()
+    window, area, _region = bl_common.view_3d()
     if CAPTURE == "xwd":
         display = os.environ["DISPLAY"]
         subprocess.run(f"xwd -root -silent -display {display} | xwdtopnm 2>/dev/null | pnmtopng > {path}",
@@ -73,7 +61,7 @@ def step_setup():
     scene.view_settings.exposure = 0.0
     scene.view_settings.gamma = 1.0
     scene.render.dither_intensity = 0.0
-    _window, area, _region = view_3d()
+    _window, area, _region = bl_common.view_3d()
     space = area.spaces.active
     space.shading.type = "RENDERED"
     space.overlay.show_overlays = False
@@ -99,8 +87,8 @@ def step_first_frame():
 
 
 def step_capture():
-    window, area, region = view_3d()
-    current = viewport_session()
+    window, area, region = bl_common.view_3d()
+    current = bl_common.viewport_session()
     info = current.engine.frame_info()
     frame = current.engine.frame_read(bl_common.addon_module("native").AOV_COMBINED, info.width, info.height)
     np.save(os.path.join(OUT, "frame.npy"), np.asarray(frame).reshape(info.height, info.width, -1))
@@ -123,7 +111,7 @@ def step_move_light():
 
 
 def step_after_light():
-    if not rendered_and_drawn() or viewport_session().engine.frame_info().serial == result["first_serial"]:
+    if not rendered_and_drawn() or bl_common.viewport_session().engine.frame_info().serial == result["first_serial"]:
         return False
     result["stats_after_light"] = stats()
     return True
@@ -133,12 +121,12 @@ def step_move_object():
     mesh = next(o for o in bpy.context.scene.objects if o.type == "MESH")
     mesh.location.z += 0.05
     result["moved_object"] = mesh.name
-    result["serial_before_object"] = viewport_session().engine.frame_info().serial
+    result["serial_before_object"] = bl_common.viewport_session().engine.frame_info().serial
     return True
 
 
 def step_after_object():
-    if not rendered_and_drawn() or viewport_session().engine.frame_info().serial == result["serial_before_object"]:
+    if not rendered_and_drawn() or bl_common.viewport_session().engine.frame_info().serial == result["serial_before_object"]:
         return False
     result["stats_after_object"] = stats()
     # A long render next: the UI must keep running timers while it renders.
@@ -149,7 +137,7 @@ def step_after_object():
 
 def step_responsive():
     result["ticks"].append(time.perf_counter())
-    current = viewport_session()
+    current = bl_common.viewport_session()
     progress = current.engine.render_progress()
     native = bl_common.addon_module("native")
     if len(result["ticks"]) < 10:
@@ -168,7 +156,7 @@ def step_responsive():
 def step_final_render():
     """F12 while the viewport engine lives: two engines (two render threads, two GL contexts) at once."""
     bpy.context.scene.bounce.viewport_samples = 4
-    result["serial_before_final"] = viewport_session().engine.frame_info().serial
+    result["serial_before_final"] = bl_common.viewport_session().engine.frame_info().serial
     scene = bpy.context.scene
     scene.render.resolution_x = scene.render.resolution_y = 64
     bpy.ops.render.render()
@@ -180,9 +168,9 @@ def step_final_render():
 
 
 def step_viewport_after_final():
-    if not rendered_and_drawn() or viewport_session().engine.frame_info().serial == result["serial_before_final"]:
+    if not rendered_and_drawn() or bl_common.viewport_session().engine.frame_info().serial == result["serial_before_final"]:
         return False
-    result["viewport_after_final_serial"] = viewport_session().engine.frame_info().serial
+    result["viewport_after_final_serial"] = bl_common.viewport_session().engine.frame_info().serial
     return True
 
 

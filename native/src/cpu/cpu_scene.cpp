@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat3x3.hpp>
@@ -82,6 +83,13 @@ bool CpuScene::has_surface(const embree::Hit& hit) const {
 float CpuScene::radius() const {
   if (positions_.empty()) return 0.0f;
   return 0.5f * glm::length(bounds_max() - bounds_min());
+}
+
+float CpuScene::ray_offset() const {
+  if (positions_.empty()) return 1e-30f;
+  const glm::vec3 extent = glm::max(glm::abs(bounds_min()), glm::abs(bounds_max()));
+  constexpr float kRelative = 1e-5f;  // float32 steps are 1.2e-7 of a coordinate; positions carry a few of them
+  return kRelative * std::max({radius(), extent.x, extent.y, extent.z, 1e-30f});
 }
 
 glm::vec2 CpuScene::uv(uint32_t triangle, float u, float v) const {

@@ -270,11 +270,10 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       partial->info.nonfinite_pixels = partial->zero_nonfinite();
       const bool noise_reached = schedule.published(*partial, s + 1);
       finish_info(*partial, s + 1);
+      // The frame that meets Noise Target is the render's last: its samples are not read back a second time.
+      if (noise_reached) partial->info.noise_relmse = schedule.noise_relmse(*partial, s + 1);
       callbacks.publish(partial);
-      if (noise_reached) {
-        samples_done = s + 1;
-        break;
-      }
+      if (noise_reached) return true;
     }
   }
   if (tiles_take_turns)

@@ -604,11 +604,10 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
     if (s + 1 < settings.samples && schedule.publish_due(s + 1)) {
       std::shared_ptr<Frame> partial = make_frame(s + 1);
       const bool noise_reached = schedule.published(*partial, s + 1);
+      // The frame that meets Noise Target is the render's last: it is not made a second time.
+      if (noise_reached) partial->info.noise_relmse = schedule.noise_relmse(*partial, s + 1);
       callbacks.publish(std::move(partial));
-      if (noise_reached) {
-        samples_done = s + 1;
-        break;
-      }
+      if (noise_reached) return true;
     }
   }
   std::shared_ptr<Frame> frame = make_frame(samples_done);

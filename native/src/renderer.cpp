@@ -232,7 +232,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       if (tiles_take_turns) compose_.clear(tile.width, tile.height);
       gbuffer_.execute(context);
       if (traced_direct)
-        traced_direct_.execute(context, gbuffer_.gbuffer(), cpu_scene_);
+        traced_direct_.execute(context, gbuffer_.gbuffer(), cpu_scene_, scene_lights_);
       else
         direct_.execute(context, gbuffer_.gbuffer(), shadows_);
       ComposePass::Indirect indirect;

@@ -137,8 +137,20 @@ void SceneLights::update(const GpuScene& scene) {
       world_row_cdf_.push_back(world_cdf_[r * world_width_]);
     // The table's directions are the environment's; the lights need the world's (normalized once drawn: a Mapping
     // node may scale unevenly).
-    environment_to_world_ = glm::inverse(glm::make_mat3(scene.world().world_to_environment));
+    world_to_environment_ = glm::make_mat3(scene.world().world_to_environment);
+    environment_to_world_ = glm::inverse(world_to_environment_);
   }
+}
+
+SceneLights::WorldDensity SceneLights::world_density(glm::vec3 w) const {
+  const double total = world_cdf_.back();
+  if (world_texels_.empty() || !(total > 0.0) || !std::isfinite(total)) return {0.0f, glm::vec3(0.0f)};
+  const glm::vec2 uv = equirect_uv(glm::normalize(world_to_environment_ * w));
+  const std::size_t width = world_width_, height = world_texels_.size() / width;
+  const std::size_t column = std::min(std::size_t(std::max(uv.x, 0.0f) * float(width)), width - 1);
+  const std::size_t row = std::min(std::size_t(std::max(uv.y, 0.0f) * float(height)), height - 1);
+  const WorldTexel& texel = world_texels_[row * width + column];
+  return {float(double(weight(texel.radiance)) / total), texel.radiance};
 }
 
 void SceneLights::add_world(const BounceSettings& settings, uint32_t sample, uint32_t seed) {

@@ -5,7 +5,8 @@
 //    radiance x solid angle from a table of the environment, so each carries the same power, and spread over the
 //    samples by one low-discrepancy sequence (the i-th direction of the render is its i-th R2 point). Each is a sun
 //    of irradiance L(w) / (K p(w)): their average over the samples converges to the sky's visibility integral
-//    (the sum over directions of L V cos / p).
+//    (the sum over directions of L V cos / p). The ray-traced paths weigh them against directions of their own
+//    per point (cpu/direct_light.h, WorldStrategies), with world_density().
 //  - emissive surfaces: each triangle with emission is a two-sided triangle light of its radiance, shaded by
 //    Lambert's formula (exact unshadowed irradiance); when there are more than `emission_lights`, that many are
 //    drawn each sample in proportion to their power (systematic sampling), each of radiance L / (K p).
@@ -58,6 +59,13 @@ class SceneLights {
   std::size_t world_count() const { return world_count_; }
   // The emissive triangles among this sample's lights, as occluders.
   const std::vector<EmitterOccluder>& emitter_occluders() const { return occluders_; }
+  // The density (per steradian) with which the world's directions are drawn toward unit world direction `w`, and
+  // the radiance they carry from there (the table's), for multiple importance sampling against other strategies.
+  struct WorldDensity {
+    float pdf;
+    glm::vec3 radiance;
+  };
+  WorldDensity world_density(glm::vec3 w) const;
 
  private:
   struct Emitter {
@@ -78,7 +86,7 @@ class SceneLights {
   std::vector<double> world_cdf_;  // cumulative radiance x solid angle, row after row (bottom first)
   std::size_t world_width_ = 1;
   std::vector<double> world_row_cdf_;  // the rows' marginal: world_cdf_ at each row's start, and the total
-  glm::mat3 environment_to_world_{1.0f};
+  glm::mat3 environment_to_world_{1.0f}, world_to_environment_{1.0f};
   std::vector<BounceLight> lights_;
   std::vector<EmitterOccluder> occluders_;
   std::size_t lamp_count_ = 0, world_count_ = 0;

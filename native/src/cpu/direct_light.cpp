@@ -195,9 +195,37 @@ glm::vec3 light_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, c
 }
 
 glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, glm::vec3 n, const ShadowRays& rays,
-                            Rng& rng) {
+                            Rng& rng, const WorldStrategies* world) {
   glm::vec3 sum(0.0f);
-  for (const BounceLight& light : lights) sum += light_irradiance(light, y, n, rays, rng);
+  const std::size_t first = world ? world->first : lights.size(), last = world ? first + world->count : first;
+  const float drawn = float(last - first), cosine = world ? float(std::max(world->cosine, 0)) : 0.0f;
+  // The power heuristic's terms (K p(w))^2 and (K_c cos / pi)^2 of both strategies toward w.
+  const auto terms = [&](glm::vec3 w, float pdf) {
+    return glm::vec2(drawn * pdf, cosine * std::max(glm::dot(n, w), 0.0f) / kPi);
+  };
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const glm::vec3 e = light_irradiance(lights[i], y, n, rays, rng);
+    if (i < first || i >= last || cosine == 0.0f || !(e.r + e.g + e.b > 0.0f)) {
+      sum += e;
+      continue;
+    }
+    const glm::vec2 t =
+        terms(glm::make_vec3(lights[i].axis_z), world->table.world_density(glm::make_vec3(lights[i].axis_z)).pdf);
+    sum += e * (t.x * t.x / glm::dot(t, t));
+  }
+  if (cosine == 0.0f) return sum;
+  ShadingContext context{rays.bvh, rays.counts, rays.offset, 1, 0.0f, rng};
+  for (int k = 0; k < world->cosine; ++k) {
+    const glm::vec3 w = cosine_direction(n, rng.next(), rng.next());
+    const float cos_n = glm::dot(n, w);
+    if (!(cos_n > 0.0f)) continue;
+    const SceneLights::WorldDensity density = world->table.world_density(w);
+    if (!(density.radiance.r + density.radiance.g + density.radiance.b > 0.0f)) continue;
+    if (!context.visible_direction(y, n, w)) continue;
+    // L cos / (K_c cos / pi), weighted by (K_c cos / pi)^2 over the sum of both terms squared.
+    const glm::vec2 t = terms(w, density.pdf);
+    sum += density.radiance * (cos_n * t.y / glm::dot(t, t));
+  }
   return sum;
 }
 

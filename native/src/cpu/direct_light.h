@@ -11,6 +11,7 @@
 #include "bounce/bounce.h"
 #include "cpu/random.h"
 #include "embree/embree_device.h"
+#include "scene_lights.h"
 
 namespace bounce::cpu {
 
@@ -28,8 +29,20 @@ float spot_attenuation(const BounceLight& light, glm::vec3 from_light);
 
 // Shadowed direct irradiance (W/m^2, per channel) at y on the side of unit normal n from one light.
 glm::vec3 light_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, const ShadowRays& rays, Rng& rng);
-// Summed over the lights.
+// The world's directions in a sample's list of lights as one strategy of multiple importance sampling, against
+// `cosine` directions per point drawn in proportion to cos / pi (Veach's power heuristic: each direction's light
+// is weighted by its strategy's (K p)^2 over (K p(w))^2 + (K_c cos / pi)^2, so the sum stays unbiased, and the
+// strategy far likelier to draw a direction carries nearly all of its light).
+// The shared directions go where the environment is bright, which a point in an atrium seldom sees; its own
+// cosine-weighted directions find the sky through the opening.
+struct WorldStrategies {
+  const SceneLights& table;
+  std::size_t first, count;  // the world's directions among the lights: SceneLights::lamp_count, world_count
+  int cosine;                // cosine-weighted directions per point
+};
+
+// Summed over the lights; with `world`, the world's light by both of its strategies.
 glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, glm::vec3 n, const ShadowRays& rays,
-                            Rng& rng);
+                            Rng& rng, const WorldStrategies* world = nullptr);
 
 }  // namespace bounce::cpu

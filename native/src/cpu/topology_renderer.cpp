@@ -459,12 +459,15 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
     }
     {
       StageScope scope(timer, Stage::TopologyDirect);
+      const WorldStrategies world_strategies{scene_lights, scene_lights.lamp_count(), scene_lights.world_count(),
+                                             settings.world_lights};
       parallel_for(pixels, 0, 256, [&](std::size_t i) {
         const ViewSample& v = view[i];
         if (!v.hit) return;
         Rng rng(seed, kDirectLight, (uint64_t(s) << 40) ^ i);
         direct[i] = v.surface.albedo / kPi *
-                    direct_irradiance(lights, v.surface.position, v.surface.shading_normal, direct_rays, rng);
+                    direct_irradiance(lights, v.surface.position, v.surface.shading_normal, direct_rays, rng,
+                                      &world_strategies);
       });
     }
     // Clustered shading (Sec. V.B): view samples grouped by screen tile, exponential depth slice and visibility

@@ -20,7 +20,8 @@ void read_texture(GLuint texture, std::vector<glm::vec4>& into, int width, int h
 
 }  // namespace
 
-void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, const cpu::CpuScene& scene) {
+void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, const cpu::CpuScene& scene,
+                               const SceneLights& scene_lights) {
   StageScope scope(context.timer, Stage::TracedDirect);
   const int width = context.width, height = context.height;
   if (width_ != width || height_ != height) {
@@ -36,6 +37,8 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
   // Shadow rays leave from the surface pushed along the shading normal (on the geometric normal's side, so off
   // the surface); the light itself is evaluated at the surface point, as the rasterizer does.
   const cpu::ShadowRays rays{scene.bvh(), scene.ray_offset(), 1, scene.opaque(), context.settings.shadow_softness};
+  const cpu::WorldStrategies world{scene_lights, scene_lights.lamp_count(), scene_lights.world_count(),
+                                   context.settings.world_lights};
   if (!lights.empty() && scene.triangle_count() > 0) {
     parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
       for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {
@@ -45,7 +48,7 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
         const uint64_t pixel = (uint64_t(uint32_t(context.tile_origin.y) + uint32_t(row)) << 32) |
                                uint32_t(context.tile_origin.x + int(i - row * std::size_t(width)));
         cpu::Rng rng(context.seed, kTracedDirect ^ (uint64_t(context.sample) << 8), pixel);
-        const glm::vec3 e = cpu::direct_irradiance(lights, y, n, rays, rng);
+        const glm::vec3 e = cpu::direct_irradiance(lights, y, n, rays, rng, &world);
         light_[i] = glm::vec4(glm::vec3(albedo_[i]) / kPi * e, 0.0f);
       }
     });

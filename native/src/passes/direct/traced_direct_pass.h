@@ -14,12 +14,15 @@
 #include "gl/objects.h"
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/render_context.h"
+#include "scene_lights.h"
 
 namespace bounce {
 
 class TracedDirectPass {
  public:
-  void execute(const RenderContext& context, const GBuffer& gbuffer, const cpu::CpuScene& scene);
+  // `lights`: the sample's list came from it (its world's directions are one of two strategies, direct_light.h).
+  void execute(const RenderContext& context, const GBuffer& gbuffer, const cpu::CpuScene& scene,
+               const SceneLights& lights);
   GLuint output() const { return direct_.id(); }  // RGBA32F, as DirectPass::output()
 
  private:

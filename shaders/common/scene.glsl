@@ -22,16 +22,18 @@ layout(binding = 16) uniform sampler2D u_emission_texture;  // white when the ma
 Instance current_instance() { return instances[instance_lists[u_instance_offset + gl_InstanceID]]; }
 #endif
 
-// Base colour and alpha at a surface point. The texture sample is 1 when the material has none.
+// Base colour and alpha at a surface point. The texture sample is 1 when the material has none. Level 0, as Cycles
+// and the CPU rays sample it: the jittered samples average a texture over each pixel already, and the mip chain
+// is not only blurred but biased (Sponza's albedo 7 % above Cycles' DiffCol with it, 1 % without).
 vec4 surface_base_color(vec2 uv) {
   Material m = materials[u_material];
-  vec4 texel = texture(u_base_color_texture, uv);
+  vec4 texel = textureLod(u_base_color_texture, uv, 0.0);
   float alpha = m.flags.y != 0 ? m.base_color_alpha.a * texel.a : m.base_color_alpha.a;
   return vec4(m.base_color_alpha.rgb * texel.rgb, alpha);
 }
 
 vec3 surface_emission(vec2 uv) {
-  return materials[u_material].emission_threshold.rgb * texture(u_emission_texture, uv).rgb;
+  return materials[u_material].emission_threshold.rgb * textureLod(u_emission_texture, uv, 0.0).rgb;
 }
 
 bool surface_is_cut_out(float alpha) { return alpha < materials[u_material].emission_threshold.a; }

@@ -154,6 +154,7 @@ SceneLights::WorldDensity SceneLights::world_density(glm::vec3 w) const {
 }
 
 void SceneLights::add_world(const BounceSettings& settings, uint32_t sample, uint32_t seed) {
+  world_pdfs_.clear();
   const int count = settings.world_lights;
   const double total = world_cdf_.back();
   if (count <= 0 || !(total > 0.0) || !std::isfinite(total)) return;
@@ -192,6 +193,7 @@ void SceneLights::add_world(const BounceSettings& settings, uint32_t sample, uin
       light.intensity[i] = irradiance[i];
     }
     lights_.push_back(light);
+    world_pdfs_.push_back(float(double(weight(texel.radiance)) / total));
   }
 }
 

@@ -59,8 +59,10 @@ class SceneLights {
   std::size_t world_count() const { return world_count_; }
   // The emissive triangles among this sample's lights, as occluders.
   const std::vector<EmitterOccluder>& emitter_occluders() const { return occluders_; }
-  // The density (per steradian) with which the world's directions are drawn toward unit world direction `w`, and
-  // the radiance they carry from there (the table's), for multiple importance sampling against other strategies.
+  // The density (per steradian) with which each of this sample's world directions was drawn, in their order.
+  const std::vector<float>& world_pdfs() const { return world_pdfs_; }
+  // The density with which the world's directions are drawn toward unit world direction `w`, and the radiance they
+  // carry from there (the table's), for multiple importance sampling against other strategies.
   struct WorldDensity {
     float pdf;
     glm::vec3 radiance;
@@ -88,6 +90,7 @@ class SceneLights {
   std::vector<double> world_row_cdf_;  // the rows' marginal: world_cdf_ at each row's start, and the total
   glm::mat3 environment_to_world_{1.0f}, world_to_environment_{1.0f};
   std::vector<BounceLight> lights_;
+  std::vector<float> world_pdfs_;  // of the world's directions among lights_
   std::vector<EmitterOccluder> occluders_;
   std::size_t lamp_count_ = 0, world_count_ = 0;
 };

@@ -197,7 +197,8 @@ glm::vec3 light_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, c
 glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, glm::vec3 n, const ShadowRays& rays,
                             Rng& rng, const WorldStrategies* world) {
   glm::vec3 sum(0.0f);
-  const std::size_t first = world ? world->first : lights.size(), last = world ? first + world->count : first;
+  const std::size_t first = world ? world->lights.lamp_count() : lights.size(),
+                    last = world ? first + world->lights.world_count() : first;
   const float drawn = float(last - first), cosine = world ? float(std::max(world->cosine, 0)) : 0.0f;
   // The power heuristic's terms (K p(w))^2 and (K_c cos / pi)^2 of both strategies toward w.
   const auto terms = [&](glm::vec3 w, float pdf) {
@@ -209,8 +210,7 @@ glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, gl
       sum += e;
       continue;
     }
-    const glm::vec2 t =
-        terms(glm::make_vec3(lights[i].axis_z), world->table.world_density(glm::make_vec3(lights[i].axis_z)).pdf);
+    const glm::vec2 t = terms(glm::make_vec3(lights[i].axis_z), world->lights.world_pdfs()[i - first]);
     sum += e * (t.x * t.x / glm::dot(t, t));
   }
   if (cosine == 0.0f) return sum;
@@ -219,7 +219,7 @@ glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, gl
     const glm::vec3 w = cosine_direction(n, rng.next(), rng.next());
     const float cos_n = glm::dot(n, w);
     if (!(cos_n > 0.0f)) continue;
-    const SceneLights::WorldDensity density = world->table.world_density(w);
+    const SceneLights::WorldDensity density = world->lights.world_density(w);
     if (!(density.radiance.r + density.radiance.g + density.radiance.b > 0.0f)) continue;
     if (!context.visible_direction(y, n, w)) continue;
     // L cos / (K_c cos / pi), weighted by (K_c cos / pi)^2 over the sum of both terms squared.

@@ -36,12 +36,11 @@ glm::vec3 light_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, c
 // The shared directions go where the environment is bright, which a point in an atrium seldom sees; its own
 // cosine-weighted directions find the sky through the opening.
 struct WorldStrategies {
-  const SceneLights& table;
-  std::size_t first, count;  // the world's directions among the lights: SceneLights::lamp_count, world_count
-  int cosine;                // cosine-weighted directions per point
+  const SceneLights& lights;  // whose sample() made the list of lights: its world's directions and their densities
+  int cosine;                 // cosine-weighted directions per point
 };
 
-// Summed over the lights; with `world`, the world's light by both of its strategies.
+// Summed over the lights; with `world` (whose `lights` made this list), the world's light by both strategies.
 glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, glm::vec3 n, const ShadowRays& rays,
                             Rng& rng, const WorldStrategies* world = nullptr);
 

@@ -459,8 +459,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
     }
     {
       StageScope scope(timer, Stage::TopologyDirect);
-      const WorldStrategies world_strategies{scene_lights, scene_lights.lamp_count(), scene_lights.world_count(),
-                                             settings.world_lights};
+      const WorldStrategies world_strategies{scene_lights, settings.world_lights};
       parallel_for(pixels, 0, 256, [&](std::size_t i) {
         const ViewSample& v = view[i];
         if (!v.hit) return;

@@ -37,8 +37,7 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
   // Shadow rays leave from the surface pushed along the shading normal (on the geometric normal's side, so off
   // the surface); the light itself is evaluated at the surface point, as the rasterizer does.
   const cpu::ShadowRays rays{scene.bvh(), scene.ray_offset(), 1, scene.opaque(), context.settings.shadow_softness};
-  const cpu::WorldStrategies world{scene_lights, scene_lights.lamp_count(), scene_lights.world_count(),
-                                   context.settings.world_lights};
+  const cpu::WorldStrategies world{scene_lights, context.settings.world_lights};
   if (!lights.empty() && scene.triangle_count() > 0) {
     parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
       for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {

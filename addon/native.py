@@ -64,8 +64,12 @@ class InternalError(BounceError):
     status = 7
 
 
+class RayTracingError(BounceError):
+    status = 8
+
+
 _ERROR_BY_STATUS = {cls.status: cls for cls in (InvalidArgumentError, ContextError, GLError, OutOfMemoryError,
-                                                NotReadyError, CancelledError, InternalError)}
+                                                NotReadyError, CancelledError, InternalError, RayTracingError)}
 
 # ---- Enums and constants (bounce.h) ----------------------------------------------------------------------
 

@@ -10,6 +10,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "common/fault_injection.h"
+
 // CMake names the major version it linked (BOUNCE_EMBREE_VERSION_MAJOR); the headers must be the same ones.
 #if defined(BOUNCE_EMBREE_VERSION_MAJOR) ? BOUNCE_EMBREE_VERSION_MAJOR == 4 : __has_include(<embree4/rtcore.h>)
 #include <embree4/rtcore.h>
@@ -47,6 +49,7 @@ struct Device::Impl {
 };
 
 Device::Device() : impl_(std::make_unique<Impl>()) {
+  if (fault_injected("embree")) throw std::runtime_error("rtcNewDevice failed: injected by BOUNCE_INJECT_FAULT");
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) {
     throw std::runtime_error("rtcNewDevice failed: Embree error " + std::to_string(int(rtcGetDeviceError(nullptr))));

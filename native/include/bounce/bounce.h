@@ -43,7 +43,8 @@ typedef enum BounceStatus {
   BOUNCE_ERROR_OUT_OF_MEMORY = 4,
   BOUNCE_ERROR_NOT_READY = 5, /* no finished frame yet, or a render is running */
   BOUNCE_ERROR_CANCELLED = 6,
-  BOUNCE_ERROR_INTERNAL = 7
+  BOUNCE_ERROR_INTERNAL = 7,
+  BOUNCE_ERROR_RAY_TRACING = 8 /* Embree could not start (ray-traced shadows, Topology, Auto need it) */
 } BounceStatus;
 
 /* ---- Library ----------------------------------------------------------------------------------------- */

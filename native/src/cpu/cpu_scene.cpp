@@ -13,10 +13,30 @@
 #include <glm/vec4.hpp>
 
 #include "cpu/random.h"
+#include "error.h"
 
 namespace bounce::cpu {
 
+namespace {
+
+std::shared_ptr<embree::Device> start_embree() {
+  try {
+    return std::make_shared<embree::Device>();
+  } catch (const std::exception& e) {
+    fail(BOUNCE_ERROR_RAY_TRACING,
+         std::string("Embree could not start (") + e.what() +
+             "): ray-traced shadows, the Topology method, FLC's Indirect Shadows and Auto need it; Direct, FLC and "
+             "SSVP render without it with Shadows > Shadow Method: Shadow Maps");
+  }
+}
+
+}  // namespace
+
 bool CpuScene::sync(const GpuScene& scene) {
+  if (!device_) {
+    device_ = start_embree();
+    bvh_ = std::make_unique<embree::Scene>(device_);
+  }
   if (scene.geometry_version() == version_) return false;
   version_ = scene.geometry_version();
   positions_.clear();

@@ -31,9 +31,10 @@ class CpuScene {
   CpuScene(const CpuScene&) = delete;  // opaque() refers to this object
   CpuScene& operator=(const CpuScene&) = delete;
   // Rebuilds from `scene` (prepared) when its geometry changed since the last call; returns whether it did.
+  // The first call starts Embree (BOUNCE_ERROR_RAY_TRACING when it cannot): only the CPU paths need it.
   bool sync(const GpuScene& scene);
 
-  const embree::Scene& bvh() const { return *bvh_; }
+  const embree::Scene& bvh() const { return *bvh_; }  // after sync()
   // Rays as the rasterizer sees the scene: a hit where an alpha cut-out has no surface (alpha below its
   // threshold, as shaders/common/scene.glsl decides) lets the ray through. The topology itself is built from
   // every triangle (soup()).
@@ -47,8 +48,8 @@ class CpuScene {
   std::size_t triangle_count() const { return positions_.size() / 3; }
   // Of every corner position: the key of the topology cache.
   uint64_t geometry_hash() const { return hash_; }
-  glm::vec3 bounds_min() const { return bvh_->bounds_min(); }
-  glm::vec3 bounds_max() const { return bvh_->bounds_max(); }
+  glm::vec3 bounds_min() const { return bvh_ ? bvh_->bounds_min() : glm::vec3(0.0f); }
+  glm::vec3 bounds_max() const { return bvh_ ? bvh_->bounds_max() : glm::vec3(0.0f); }
   float radius() const;  // half the bounding box diagonal; 0 when empty
   // How far off a surface a ray leaving it starts: clear of the float32 rounding of a position (1e-5 of the
   // scene's largest coordinate or radius), and no further. The lift moves shadow edges by the offset over the
@@ -78,8 +79,8 @@ class CpuScene {
   std::vector<uint32_t> material_of_;  // per triangle
   std::vector<Material> materials_;
   uint64_t hash_ = 0;
-  std::shared_ptr<embree::Device> device_ = std::make_shared<embree::Device>();
-  std::unique_ptr<embree::Scene> bvh_ = std::make_unique<embree::Scene>(device_);
+  std::shared_ptr<embree::Device> device_;
+  std::unique_ptr<embree::Scene> bvh_;
   embree::Scene::HitFilter opaque_;
 };
 

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <vector>
 
+#include "common/fault_injection.h"
 #include "error.h"
 
 namespace bounce::gl {
@@ -77,8 +78,8 @@ EglContext::EglContext(const std::string& requested_platform, bool debug) {
     fail(BOUNCE_ERROR_INVALID_ARGUMENT,
          "EGL platform '" + platform + "' is not one of 'surfaceless', 'device' (BOUNCE_EGL_PLATFORM)");
 
-  std::string chosen;
-  display_ = shared_display(platform, chosen);
+  std::string chosen = platform.empty() ? "surfaceless" : platform;
+  display_ = fault_injected("egl") ? EGL_NO_DISPLAY : shared_display(platform, chosen);
   if (display_ == EGL_NO_DISPLAY)
     fail(BOUNCE_ERROR_CONTEXT,
          "no EGL display for platform '" + chosen + "': install Mesa's EGL (libegl-mesa0) or a GPU driver with EGL");

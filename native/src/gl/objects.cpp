@@ -3,9 +3,18 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "common/fault_injection.h"
 #include "error.h"
 
 namespace bounce::gl {
+
+namespace {
+
+[[noreturn]] void fail_out_of_gpu_memory(const std::string& what) {
+  fail(BOUNCE_ERROR_GL, what + ": out of GPU memory (lower the resolution, tile size or shadow map size)");
+}
+
+}  // namespace
 
 void delete_buffer(GLuint id) { glDeleteBuffers(1, &id); }
 void delete_texture(GLuint id) { glDeleteTextures(1, &id); }
@@ -45,6 +54,8 @@ void Readback::read(GLuint source, std::size_t bytes, void* out) {
 }
 
 Texture make_texture_2d(GLenum internal_format, int width, int height, int levels) {
+  if (fault_injected("gl-oom"))
+    fail_out_of_gpu_memory("allocating a " + std::to_string(width) + "x" + std::to_string(height) + " texture");
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_2D, 1, &id);
   glTextureStorage2D(id, levels, internal_format, width, height);
@@ -56,6 +67,7 @@ Texture make_texture_2d(GLenum internal_format, int width, int height, int level
 }
 
 Texture make_texture_cube(GLenum internal_format, int size) {
+  if (fault_injected("gl-oom")) fail_out_of_gpu_memory("allocating a cube map of " + std::to_string(size) + " pixels");
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &id);
   glTextureStorage2D(id, 1, internal_format, size, size);
@@ -144,9 +156,7 @@ void check(const char* what) {
   if (error == GL_NO_ERROR) return;
   while (glGetError() != GL_NO_ERROR) {
   }
-  if (error == GL_OUT_OF_MEMORY)
-    fail(BOUNCE_ERROR_GL,
-         std::string(what) + ": out of GPU memory (lower the resolution, tile size or shadow map size)");
+  if (error == GL_OUT_OF_MEMORY) fail_out_of_gpu_memory(what);
   fail(BOUNCE_ERROR_GL, std::string(what) + ": GL error " + error_name(error));
 }
 

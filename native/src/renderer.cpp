@@ -207,7 +207,8 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   };
 
   // Samples outside, tiles inside: what a sample computes whatever the view (shadow maps, Forward Light Cuts'
-  // VPLs) is computed once and shared by its tiles. ShadowPass keeps each light's map until the sample changes.
+  // and SSVP's VPLs) is computed once and shared by its tiles. ShadowPass keeps each light's map until the sample
+  // changes.
   if (!tiles_take_turns) compose_.clear(tiles[0].width, tiles[0].height);
   SampleSchedule schedule(settings);
   int samples_done = samples;
@@ -216,14 +217,22 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
     const std::vector<BounceLight>& lights = scene_lights_.sample(scene_, settings, static_cast<uint32_t>(s), seed);
     bind_emitter_occluders(scene_lights_.emitter_occluders());
+    const RenderContext frame_context =
+        context_of({x0, y0, x1 - x0, y1 - y0}, static_cast<uint32_t>(s), jitter, lights);
     if (flc) {
       if (callbacks.cancelled()) return false;
-      const RenderContext frame_context =
-          context_of({x0, y0, x1 - x0, y1 - y0}, static_cast<uint32_t>(s), jitter, lights);
       flc_.generate(frame_context);
       direct_.for_each_shadowed_light(frame_context, shadows_, [&] { flc_.add_light(frame_context); });
       vpl_count = flc_.vpl_count();
       divergent_count = flc_.divergent_count();
+    }
+    if (ssvp) {
+      if (callbacks.cancelled()) return false;
+      ssvp_.generate(frame_context, gbuffer_, plan.vpl_importance ? &cpu_scene_ : nullptr);
+      vpl_count = ssvp_.vpl_count();
+      cluster_count = ssvp_.cluster_count();
+      const bool lamp = ssvp_.main_light() >= 0 && std::size_t(ssvp_.main_light()) < scene_lights_.lamp_count();
+      main_light = lamp ? static_cast<int>(scene_.lamp_source_index(std::size_t(ssvp_.main_light()))) : -1;
     }
     for (std::size_t t = 0; t < tiles.size(); ++t) {
       if (callbacks.cancelled()) return false;
@@ -242,11 +251,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
         if (flc_.active()) indirect = {flc_.indirect(), false, flc_.levels(), 0};
       }
       if (ssvp) {
-        ssvp_.execute(context, gbuffer_, gbuffer_.gbuffer(), plan.vpl_importance ? &cpu_scene_ : nullptr);
-        vpl_count = ssvp_.vpl_count();
-        cluster_count = ssvp_.cluster_count();
-        const bool lamp = ssvp_.main_light() >= 0 && std::size_t(ssvp_.main_light()) < scene_lights_.lamp_count();
-        main_light = lamp ? static_cast<int>(scene_.lamp_source_index(std::size_t(ssvp_.main_light()))) : -1;
+        ssvp_.shade(context, gbuffer_.gbuffer());
         if (ssvp_.active()) indirect = {ssvp_.indirect(), true, ssvp_.debug(), ssvp_.second()};
       }
       compose_.accumulate(context, gbuffer_.gbuffer(), traced_direct ? traced_direct_.output() : direct_.output(),

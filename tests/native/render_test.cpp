@@ -1,5 +1,6 @@
 // End-to-end renders through the C API on llvmpipe: determinism, tiling, crops, textures and cut-outs,
 // emission, hard inputs, progressive frames, cancellation and several engines at once.
+#include <chrono>
 #include <thread>
 
 #include "render_fixture.h"
@@ -60,9 +61,14 @@ TEST_F(Render, TilesAndCropsMatchTheWholeImage) {
       for (int c = 0; c < 4; ++c) ASSERT_TRUE(close(crop.at(x, y)[c], whole.at(x + 10, y + 20)[c]));
 }
 
-// Tiles share each sample's shadow maps and Forward Light Cuts' VPLs: a tiled frame is the untiled one, up to
-// what a tile's own border changes (FLC's interleaving and blur restart at it).
-TEST_F(Render, TiledFrameEqualsTheUntiledOne) {
+// Tiles share each sample's shadow maps and its VPLs (Forward Light Cuts', and SSVP's with their clusters and
+// paraboloid maps): a tiled frame is the untiled one, up to what a tile's own border changes (the interleaving and
+// the blur restart at it), and costs little more (printed, not asserted: the machine is noisy).
+class TiledRender : public Render, public ::testing::WithParamInterface<int> {};
+INSTANTIATE_TEST_SUITE_P(Methods, TiledRender, ::testing::Values(BOUNCE_METHOD_FLC, BOUNCE_METHOD_SSVP),
+                         [](const auto& info) { return info.param == BOUNCE_METHOD_FLC ? "Flc" : "Ssvp"; });
+
+TEST_P(TiledRender, TiledFrameEqualsTheUntiledOne) {
   build_shadow_scene();
   add_plane(3, 4.0f);  // a wall facing the camera, lit by the floor
   set_instances({1, 2, 3},
@@ -70,20 +76,31 @@ TEST_F(Render, TiledFrameEqualsTheUntiledOne) {
                  glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0, 2, 2)), kPi / 2, glm::vec3(1, 0, 0))});
   set_camera(glm::lookAt(glm::vec3(0, -6, 4), glm::vec3(0), glm::vec3(0, 0, 1)),
              glm::perspective(0.8f, 4.0f / 3.0f, 0.1f, 100.0f), 128, 96);
-  settings_.method = BOUNCE_METHOD_FLC;
+  settings_.method = GetParam();
   settings_.flc_visibility = 0;
   settings_.samples = 8;
   settings_.filter_width = 1.5f;
-  const Image direct = render(BOUNCE_AOV_DIRECT), indirect = read(BOUNCE_AOV_INDIRECT);
+  auto seconds = [this] {
+    const auto start = std::chrono::steady_clock::now();
+    render(BOUNCE_AOV_DIRECT);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  seconds();  // compiles the shaders and builds what a scene keeps
+  const double untiled_seconds = seconds();
+  const Image direct = read(BOUNCE_AOV_DIRECT), indirect = read(BOUNCE_AOV_INDIRECT);
   settings_.tile_size = 64;  // 2 x 2 tiles
-  const Image tiled_direct = render(BOUNCE_AOV_DIRECT), tiled_indirect = read(BOUNCE_AOV_INDIRECT);
+  const double tiled_seconds = seconds();
+  const Image tiled_direct = read(BOUNCE_AOV_DIRECT), tiled_indirect = read(BOUNCE_AOV_INDIRECT);
   // Direct light: the same but for a few pixels on edges, where the tile's projection rounds differently.
   int differing = 0;
   for (std::size_t i = 0; i < direct.values.size(); ++i)
     differing += std::abs(tiled_direct.values[i] - direct.values[i]) > 1e-3f;
   const double untiled_mean = mean_red(indirect), tiled_mean = mean_red(tiled_indirect);
-  std::printf("direct: %d values of %zu differ; indirect: mean %.5f untiled, %.5f tiled\n", differing,
-              direct.values.size(), untiled_mean, tiled_mean);
+  std::printf(
+      "direct: %d values of %zu differ; indirect: mean %.5f untiled, %.5f tiled; %.2f s untiled, %.2f s "
+      "tiled (%.2fx)\n",
+      differing, direct.values.size(), untiled_mean, tiled_mean, untiled_seconds, tiled_seconds,
+      tiled_seconds / untiled_seconds);
   EXPECT_LE(differing, 12);
   EXPECT_NEAR(mean_red(tiled_direct), mean_red(direct), 1e-3 * mean_red(direct));
   ASSERT_GT(untiled_mean, 0.0);

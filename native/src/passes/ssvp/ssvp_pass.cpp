@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "common/parallel.h"
+#include "cpu/camera_ray.h"
 #include "cpu/vpls.h"
 #include "error.h"
 #include "gl/shader.h"
@@ -47,26 +48,24 @@ struct Probe {
   glm::vec3 position, normal, albedo;
 };
 
-// VPL Importance's view samples: one jittered pixel in each cell of a grid over the camera's G-buffer.
-std::vector<Probe> read_probes(const GBuffer& camera, uint32_t seed) {
+// VPL Importance's view samples: the surface a camera ray meets through one jittered point in each cell of a
+// grid over the whole view (all the tiles of a tiled frame share them), as the rasterizer sees it (cut-outs let
+// the ray through).
+std::vector<Probe> camera_probes(const RenderContext& frame, const cpu::CpuScene& scene, uint32_t seed) {
   std::vector<Probe> probes;
-  const auto texel = [](const gl::Texture& texture, int x, int y) {
-    glm::vec4 value(0.0f);
-    glGetTextureSubImage(texture.id(), 0, x, y, 0, 1, 1, 1, GL_RGBA, GL_FLOAT, sizeof value, &value[0]);
-    return value;
-  };
+  const glm::dmat4 clip_to_world = glm::inverse(glm::dmat4(frame.view_projection));
   const int cells = cpu::kProbesPerAxis;
   for (int cell = 0; cell < cells * cells; ++cell) {
     const uint32_t key = hash_combine(seed, static_cast<uint32_t>(cell));
-    const int x = std::min(camera.width - 1, int((cell % cells + hash_to_unit(key)) * camera.width / cells));
-    const int y =
-        std::min(camera.height - 1, int((cell / cells + hash_to_unit(key ^ 0x9e37u)) * camera.height / cells));
-    const glm::vec4 albedo = texel(camera.albedo, x, y);
-    const glm::vec3 normal(texel(camera.normal, x, y));
-    if (albedo.a == 0.0f || !(glm::dot(normal, normal) > 0.0f)) continue;
-    probes.push_back({glm::vec3(texel(camera.position, x, y)), glm::normalize(normal), glm::vec3(albedo)});
+    const double x = (cell % cells + hash_to_unit(key)) / cells,
+                 y = (cell / cells + hash_to_unit(key ^ 0x9e37u)) / cells;
+    const cpu::CameraRay ray = cpu::camera_ray(clip_to_world, 2.0 * x - 1.0, 2.0 * y - 1.0);
+    if (!std::isfinite(ray.direction.x) || !std::isfinite(ray.origin.x)) continue;
+    const std::optional<embree::Hit> hit = scene.intersect(ray.origin, ray.direction, 0.0f, ray.tmax);
+    if (!hit) continue;
+    const cpu::Surface surface = scene.surface(*hit, ray.direction);
+    probes.push_back({surface.position, surface.shading_normal, surface.albedo});
   }
-  gl::check("reading the VPL importance probes");
   return probes;
 }
 
@@ -154,8 +153,7 @@ SsvpPass::SsvpPass()
   gl::check("creating the SSVP pass");
 }
 
-void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers, const GBuffer& camera,
-                       const cpu::CpuScene* traced) {
+void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffers, const cpu::CpuScene* traced) {
   first_count_ = second_count_ = 0;
   main_light_ = -1;
   clusters_.clear();
@@ -191,14 +189,18 @@ void SsvpPass::execute(const RenderContext& context, const GBufferPass& gbuffers
 
   render_rsm(context, gbuffers, light);
   sample_first_bounce(context, light);
-  cluster(context, camera, traced);
+  cluster(context, traced);
   if (clusters_.empty()) {
     first_count_ = 0;
     return;
   }
   render_paraboloids(context);
   if (p.bounces > 1) propagate(context);
-  shade(context, camera);
+}
+
+void SsvpPass::shade(const RenderContext& context, const GBuffer& camera) {
+  if (!active()) return;
+  shade_vpls(context, camera);
   draw_debug(context, camera);
 }
 
@@ -286,7 +288,7 @@ void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLig
   gl::check("sampling the first-bounce VPLs");
 }
 
-void SsvpPass::cluster(const RenderContext& context, const GBuffer& camera, const cpu::CpuScene* traced) {
+void SsvpPass::cluster(const RenderContext& context, const cpu::CpuScene* traced) {
   SsvpParams& p = params_;
   std::vector<GpuVpl> vpls;
   {
@@ -299,7 +301,7 @@ void SsvpPass::cluster(const RenderContext& context, const GBuffer& camera, cons
   if (traced) {
     StageScope scope(context.timer, Stage::SsvpImportance);
     const uint32_t key = hash_combine(context.seed, context.sample ^ 0x494d5054u);
-    vpls = draw_by_importance(vpls, first_wanted_, read_probes(camera, key), *traced, p.epsilon,
+    vpls = draw_by_importance(vpls, first_wanted_, camera_probes(context, *traced, key), *traced, p.epsilon,
                               hash_to_unit(hash_combine(key, 1u)));
   }
   StageScope scope(context.timer, Stage::SsvpCluster);
@@ -445,7 +447,7 @@ void SsvpPass::propagate(const RenderContext& context) {
   gl::check("propagating the second-bounce VPLs");
 }
 
-void SsvpPass::shade(const RenderContext& context, const GBuffer& camera) {
+void SsvpPass::shade_vpls(const RenderContext& context, const GBuffer& camera) {
   if (width_ != context.width || height_ != context.height) {
     shaded_total_ = gl::make_texture_2d(GL_RGBA32F, context.width, context.height);
     shaded_second_ = gl::make_texture_2d(GL_RGBA32F, context.width, context.height);

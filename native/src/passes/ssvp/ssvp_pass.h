@@ -9,8 +9,9 @@
 //   sample       - first-bounce VPLs at the texels of a 2-D Hammersley set (Eq. 1), each carrying its texel's
 //                  reflected flux: albedo x irradiance x the surface area the texel sees, times texels / VPLs.
 //                  With VPL Importance (not in the paper), 8 times as many candidates, of which the VPLs kept
-//                  are resampled on the CPU in proportion to the light they give an 8 x 8 grid of the camera's
-//                  pixels, shadow rays included (Embree; as the Topology method draws its VPLs: cpu/vpls.h).
+//                  are resampled on the CPU in proportion to the light they give the surfaces that camera rays
+//                  through an 8 x 8 grid over the view meet, shadow rays included (Embree; as the Topology
+//                  method draws its VPLs: cpu/vpls.h).
 //   cluster      - the VPLs are read back and clustered on the CPU by k-means under Eq. 2 (as intended: see
 //                  shaders/ssvp/ssvp_shared.glsl), seeded with the previous frame's clusters (Sec. III-C).
 //   paraboloids  - per cluster, a paraboloid map of a hemisphere (Heidrich and Seidel 1998) seen from the
@@ -58,9 +59,12 @@ struct SsvpParams {
 class SsvpPass {
  public:
   SsvpPass();
-  // `traced`: Embree's copy of the scene when the frame plan draws the VPLs by importance, else null.
-  void execute(const RenderContext& context, const GBufferPass& gbuffers, const GBuffer& camera,
-               const cpu::CpuScene* traced);
+  // Once per sample, for the whole view (`context` covers every tile): the light's RSM, the VPLs, their
+  // clusters and paraboloid maps, the second bounce. `traced`: Embree's copy of the scene when the frame plan
+  // draws the VPLs by importance, else null.
+  void generate(const RenderContext& context, const GBufferPass& gbuffers, const cpu::CpuScene* traced);
+  // Per tile: the pixels of `camera` lit by the sample's VPLs, blurred; the debug view.
+  void shade(const RenderContext& context, const GBuffer& camera);
 
   bool active() const { return first_count_ > 0; }
   GLuint indirect() const { return total_; }    // RGBA32F irradiance / pi, both bounces
@@ -82,10 +86,10 @@ class SsvpPass {
 
   void render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light);
   void sample_first_bounce(const RenderContext& context, const BounceLight& light);
-  void cluster(const RenderContext& context, const GBuffer& camera, const cpu::CpuScene* traced);
+  void cluster(const RenderContext& context, const cpu::CpuScene* traced);
   void render_paraboloids(const RenderContext& context);
   void propagate(const RenderContext& context);
-  void shade(const RenderContext& context, const GBuffer& camera);
+  void shade_vpls(const RenderContext& context, const GBuffer& camera);
   void draw_debug(const RenderContext& context, const GBuffer& camera);
 
   gl::Program sample_program_, paraboloid_program_, propagate_program_, shade_program_, debug_program_;

@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 10  # BOUNCE_API_VERSION this module was written against
+API_VERSION = 11  # BOUNCE_API_VERSION this module was written against
 
 LIBRARY_ENV = "BOUNCE_LIBRARY"
 LIBRARY_NAME = "libbounce.so"
@@ -313,6 +313,19 @@ def struct_array(struct_type, items):
 
 # ---- Library --------------------------------------------------------------------------------------------
 
+COST_MODEL_ENV = "BOUNCE_COST_MODEL_DIR"
+
+
+def cost_model_directory():
+    """Where Auto's cost model of this machine is kept between Blender sessions (bounce_cost_model_directory):
+    $BOUNCE_COST_MODEL_DIR ("off" or empty: not kept), else bounce/ in the user's cache ($XDG_CACHE_HOME or
+    ~/.cache)."""
+    chosen = os.environ.get(COST_MODEL_ENV)
+    if chosen is not None:
+        return "" if chosen in ("", "off") else chosen
+    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(cache, "bounce")
+
 _Engine_p = ctypes.c_void_p  # BounceEngine*: opaque
 
 
@@ -334,6 +347,7 @@ class Library:
         if ctypes.sizeof(self.Settings) != native_size:
             raise LibraryLoadError(f"settings table of {path} describes {ctypes.sizeof(self.Settings)} bytes "
                                    f"but bounce_settings_size() is {native_size}")
+        self.cdll.bounce_cost_model_directory(cost_model_directory().encode())
 
     def last_error(self):
         return (self.cdll.bounce_last_error() or b"").decode("utf-8", "replace")
@@ -367,6 +381,7 @@ class Library:
             "bounce_frame_info": [_Engine_p, ctypes.POINTER(FrameInfo)],
             "bounce_frame_read": [_Engine_p, _i32, ctypes.POINTER(_f32), size_t],
             "bounce_topology_info": [_Engine_p, ctypes.POINTER(TopologyInfo)],
+            "bounce_cost_model_directory": [ctypes.c_char_p],
         }
         for name, argtypes in status_functions.items():
             func = getattr(c, name)

@@ -156,7 +156,10 @@ def run_script(scene, script, config, work, screen=None):
     jobs_file = work / f"{stem}.jobs.json"
     jobs_file.write_text(json.dumps(dict(config, records=str(records_file)), indent=1))
     logfile = work / f"{stem}.log"
+    # Auto's cost model starts empty in each run, as the suite's figures were measured; BOUNCE_COST_MODEL_DIR in
+    # the caller's environment keeps one instead.
     env = dict(os.environ, BOUNCE_BUILD_DIR=str(BUILD))
+    env.setdefault("BOUNCE_COST_MODEL_DIR", "off")
     with open(logfile, "w") as out:
         process = subprocess.Popen(blender_command(scene.blend, jobs_file, script, screen), cwd=REPO, env=env, text=True,
                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, errors="replace")

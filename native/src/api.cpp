@@ -4,6 +4,7 @@
 #include <string>
 
 #include "bounce/bounce.h"
+#include "cost_model.h"
 #include "cpu/topology_renderer.h"
 #include "engine.h"
 #include "error.h"
@@ -214,6 +215,10 @@ BounceStatus bounce_topology_info(BounceEngine* engine, BounceTopologyInfo* out)
       out->stage_ms[stage] = topology->stage_ms[std::size_t(stage)];
     }
   });
+}
+
+BounceStatus bounce_cost_model_directory(const char* directory) {
+  return guarded([&] { bounce::CostModel::keep_in(directory ? directory : ""); });
 }
 
 }  // extern "C"

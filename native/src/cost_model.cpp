@@ -1,10 +1,37 @@
 #include "cost_model.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
 
 namespace bounce {
 namespace {
+
+constexpr const char* kHeader = "bounce cost model 1";
+
+struct Registry {
+  std::mutex mutex;
+  std::map<std::string, std::unique_ptr<CostModel>> models;
+  std::filesystem::path directory;
+};
+Registry& registry() {
+  static Registry r;
+  return r;
+}
+
+std::filesystem::path file_of(const std::filesystem::path& directory, const std::string& device) {
+  if (directory.empty()) return {};
+  uint64_t hash = 1469598103934665603ull;  // FNV-1a
+  for (unsigned char c : device) hash = (hash ^ c) * 1099511628211ull;
+  char name[48];
+  std::snprintf(name, sizeof name, "cost-model-%016llx.txt", static_cast<unsigned long long>(hash));
+  return directory / name;
+}
 
 // Bounces matter to SSVP only (1 or 2) and Topology; the others have one cost per method.
 std::pair<int32_t, int32_t> key_of(int32_t method, int32_t bounces) {
@@ -15,19 +42,104 @@ std::pair<int32_t, int32_t> key_of(int32_t method, int32_t bounces) {
 
 }  // namespace
 
-CostModel& CostModel::shared() {
-  static CostModel model;
-  return model;
+CostModel& CostModel::of_device(const std::string& device) {
+  Registry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  std::unique_ptr<CostModel>& model = r.models[device];
+  if (!model) {
+    model = std::make_unique<CostModel>(device);
+    model->file_ = file_of(r.directory, device);
+    if (!model->file_.empty()) model->read(model->file_);
+  }
+  return *model;
+}
+
+void CostModel::keep_in(const std::filesystem::path& directory) {
+  Registry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  r.directory = directory;
+  for (auto& [device, model] : r.models) {
+    const std::filesystem::path file = file_of(directory, device);
+    bool moved = false;
+    {
+      const std::lock_guard model_lock(model->mutex_);
+      moved = model->file_ != file;
+      model->file_ = file;
+    }
+    if (moved && !file.empty()) model->read(file);
+  }
 }
 
 void CostModel::observe(const BounceSettings& settings, int64_t pixels, double sample_ms, double vpl_share) {
   if (pixels <= 0 || !(sample_ms > 0.0) || !std::isfinite(sample_ms)) return;
   const double share = std::isfinite(vpl_share) ? std::clamp(vpl_share, 0.0, 1.0) : 0.0;
+  std::filesystem::path file;
+  {
+    const std::lock_guard lock(mutex_);
+    std::deque<Observation>& seen = costs_[key_of(settings.method, settings.bounces)];
+    const std::optional<VplSetting> vpls = vpl_setting(settings.method);
+    seen.push_back({double(vpls ? std::max(settings.*vpls->member, 1) : 1), sample_ms / double(pixels), share});
+    if (seen.size() > kKept) seen.pop_front();
+    file = file_;
+  }
+  if (!file.empty()) write(file);
+}
+
+std::size_t CostModel::frames() const {
   const std::lock_guard lock(mutex_);
-  std::deque<Observation>& seen = costs_[key_of(settings.method, settings.bounces)];
-  const std::optional<VplSetting> vpls = vpl_setting(settings.method);
-  seen.push_back({double(vpls ? std::max(settings.*vpls->member, 1) : 1), sample_ms / double(pixels), share});
-  if (seen.size() > kKept) seen.pop_front();
+  std::size_t count = 0;
+  for (const auto& [key, seen] : costs_) count += seen.size();
+  return count;
+}
+
+bool CostModel::write(const std::filesystem::path& file) const {
+  std::ostringstream text;
+  text.precision(17);
+  {
+    const std::lock_guard lock(mutex_);
+    text << kHeader << "\ndevice " << device_ << "\n";
+    for (const auto& [key, seen] : costs_)
+      for (const Observation& o : seen)
+        text << key.first << ' ' << key.second << ' ' << o.vpls << ' ' << o.ms_per_pixel << ' ' << o.vpl_share << '\n';
+  }
+  // Written beside and renamed over: a process reading it meanwhile sees the old model or the new, whole.
+  std::error_code error;
+  std::filesystem::create_directories(file.parent_path(), error);
+  std::filesystem::path partial = file;
+  partial += "." + std::to_string(::getpid()) + ".partial";
+  {
+    std::ofstream out(partial, std::ios::trunc);
+    out << text.str();
+    if (!out.flush()) return false;
+  }
+  std::filesystem::rename(partial, file, error);
+  if (error) std::filesystem::remove(partial, error);
+  return !error;
+}
+
+bool CostModel::read(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string header, device;
+  if (!std::getline(in, header) || header != kHeader || !std::getline(in, device) || device != "device " + device_)
+    return false;
+  std::map<std::pair<int32_t, int32_t>, std::deque<Observation>> read;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream fields(line);
+    int32_t method = 0, bounces = 0;
+    Observation o{};
+    if (!(fields >> method >> bounces >> o.vpls >> o.ms_per_pixel >> o.vpl_share)) continue;
+    if (!(o.vpls >= 1.0 && o.ms_per_pixel > 0.0 && std::isfinite(o.ms_per_pixel) && o.vpl_share >= 0.0 &&
+          o.vpl_share <= 1.0))
+      continue;  // a damaged line is not a measurement
+    read[key_of(method, bounces)].push_back(o);
+  }
+  const std::lock_guard lock(mutex_);
+  for (auto& [key, seen] : read) {
+    std::deque<Observation>& kept = costs_[key];
+    kept.insert(kept.begin(), seen.begin(), seen.end());
+    while (kept.size() > kKept) kept.pop_front();
+  }
+  return true;
 }
 
 std::optional<SampleCost> CostModel::predict(int32_t method, int32_t bounces, int64_t pixels) const {

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <thread>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -27,6 +29,13 @@ double vpl_stages_milliseconds(const StageTimer& timer, int32_t method) {
   return timer.milliseconds(Stage::SsvpImportance) + timer.milliseconds(Stage::SsvpShade);
 }
 
+// What a sample's cost depends on: the GPU (its GL renderer) and the CPU's threads (Embree, the CPU stages).
+std::string device_name() {
+  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  return std::string(renderer ? renderer : "unknown GL renderer") + " | " +
+         std::to_string(std::thread::hardware_concurrency()) + " CPU threads";
+}
+
 }  // namespace
 
 glm::mat4 tile_matrix(int image_width, int image_height, int x0, int y0, int width, int height, glm::vec2 jitter) {
@@ -38,7 +47,8 @@ glm::mat4 tile_matrix(int image_width, int image_height, int x0, int y0, int wid
   return m;
 }
 
-Renderer::Renderer() : settings_buffer_(gl::make_buffer(sizeof(BounceSettings), nullptr)) {}
+Renderer::Renderer()
+    : costs_(CostModel::of_device(device_name())), settings_buffer_(gl::make_buffer(sizeof(BounceSettings), nullptr)) {}
 
 void Renderer::bind_emitter_occluders(const std::vector<EmitterOccluder>& occluders) {
   static_assert(sizeof(EmitterOccluder) == 3 * sizeof(glm::vec4));
@@ -60,8 +70,7 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
   const int64_t pixels = cropped ? int64_t(camera.crop[2] - camera.crop[0]) * (camera.crop[3] - camera.crop[1])
                                  : int64_t(camera.width) * camera.height;
   AutoPlan plan{settings, {}, 0.0, 0.0, ""};
-  if (settings.method == BOUNCE_METHOD_AUTO)
-    plan = plan_auto(settings, analysis(settings, camera), CostModel::shared(), pixels);
+  if (settings.method == BOUNCE_METHOD_AUTO) plan = plan_auto(settings, analysis(settings, camera), costs_, pixels);
   // Every frame published teaches the cost model, whichever method it had, a cancelled render's too (the viewport
   // restarts while one navigates): the share of the VPLs' stages in the stage timer's total splits its time. The
   // topology's precomputation is paid once per scene, not per sample.
@@ -83,7 +92,7 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
     callbacks.publish(std::move(frame));
   };
   const bool finished = render_method(plan.settings, camera, annotated);
-  if (sample_ms > 0.0) CostModel::shared().observe(plan.settings, pixels, sample_ms, vpl_share);
+  if (sample_ms > 0.0) costs_.observe(plan.settings, pixels, sample_ms, vpl_share);
   return finished;
 }
 

@@ -58,6 +58,7 @@ class Renderer {
   SceneLights scene_lights_;
   cpu::CpuScene cpu_scene_;  // Embree's copy of the scene: ray-traced direct light and the Topology method
   StageTimer timer_;
+  CostModel& costs_;            // Auto's: this device's (the GL renderer's and the CPU threads')
   gl::Buffer settings_buffer_;  // the `Settings` uniform block of every shader
   gl::Buffer emitter_occluders_;
   std::size_t emitter_occluders_bytes_ = 0;

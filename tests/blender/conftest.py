@@ -101,6 +101,9 @@ class Blender:
         cmd = [str(c) for c in cmd]
         full_env = {k: v for k, v in os.environ.items() if not k.startswith("BLENDER_USER_")}
         full_env.setdefault("BOUNCE_BUILD_DIR", str(BUILD))
+        # Auto's cost model is not kept between Blender runs unless a test asks (test_auto.py): a plan must not
+        # depend on the tests that ran before.
+        full_env.setdefault("BOUNCE_COST_MODEL_DIR", "off")
         if env:
             full_env.update(env)
         self._count += 1

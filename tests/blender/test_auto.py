@@ -63,3 +63,21 @@ def test_time_limit_ends_a_final_render(blender, out_dir):
     record("auto.time_limit.samples", int(samples[0]))
     assert 1 < int(samples[0]) < 65536
     assert np.all(np.isfinite(layer_pass(read_exr(info["exr"]), "Combined")))
+
+
+def test_cost_model_is_kept_between_runs(blender, out_dir):
+    """A farm renders each frame in a new `blender -b`: with a directory to keep it in (BOUNCE_COST_MODEL_DIR; by
+    default the user's cache), Auto's second run plans from the costs the first one measured, where the first had
+    to render a plan it had not measured."""
+    kept = out_dir / "cost-model"
+    plans = []
+    for run in range(2):
+        result = blender.script("scene_case.py", ["auto_time_limit", out_dir / f"run{run}", "AUTO"],
+                                name=f"cost-model-{run}", env={"BOUNCE_COST_MODEL_DIR": str(kept)})
+        plans.append(re.findall(r"^Bounce: Auto: .+?: (.+)$", result.output, re.M)[0])
+        print(f"run {run}: {plans[-1]}")
+    # The first run knows no cost; the second starts from the measured cost of the first run's plan (here the two
+    # bounces, over the budget: it drops one).
+    assert re.search(r"per sample: cost not measured yet", plans[0]), plans[0]
+    assert re.search(r"per sample: (?!cost not measured).*\d+ ms", plans[1]), plans[1]
+    assert len(list(kept.glob("cost-model-*.txt"))) == 1, sorted(kept.iterdir())

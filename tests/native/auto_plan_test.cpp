@@ -1,8 +1,13 @@
 // Auto: the scene analysis against closed forms, and the plan it leads to.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "auto_plan.h"
 #include "render_fixture.h"
@@ -126,6 +131,46 @@ TEST(CostModel, SplitsTheSampleTimeAndScalesWithPixels) {
   line.observe(settings, 1000, 150.0, 0.9);
   EXPECT_NEAR(line.predict(BOUNCE_METHOD_SSVP, 2, 1000)->fixed_ms, 50.0, 1e-9);
   EXPECT_NEAR(line.predict(BOUNCE_METHOD_SSVP, 2, 1000)->per_vpl_ms, 0.2, 1e-9);
+}
+
+// Kept in a directory, a device's model is written after each frame, and a later process's model of the same
+// device reads it and predicts the same costs; another device's, a damaged line or a file of another kind are not
+// read as measurements.
+TEST(CostModel, KeptForTheNextProcess) {
+  const std::filesystem::path directory =
+      std::filesystem::temp_directory_path() / ("bounce-cost-model-test-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(directory);
+  CostModel::keep_in(directory);
+  CostModel& kept = CostModel::of_device("test device A");
+  BounceSettings settings{};
+  settings.method = BOUNCE_METHOD_TOPOLOGY;
+  settings.bounces = 1;
+  settings.topology_vpls = 256;
+  kept.observe(settings, 1000, 50.0, 0.5);
+  settings.topology_vpls = 512;
+  kept.observe(settings, 1000, 90.0, 0.7);
+  CostModel::keep_in("");
+  std::vector<std::filesystem::path> files(std::filesystem::directory_iterator(directory), {});
+  ASSERT_EQ(files.size(), 1u);
+
+  CostModel later("test device A"), elsewhere("test device B");
+  ASSERT_TRUE(later.read(files[0]));
+  EXPECT_EQ(later.frames(), 2u);
+  const auto expected = kept.predict(BOUNCE_METHOD_TOPOLOGY, 1, 4000),
+             read = later.predict(BOUNCE_METHOD_TOPOLOGY, 1, 4000);
+  ASSERT_TRUE(expected && read);
+  EXPECT_NEAR(read->fixed_ms, expected->fixed_ms, 1e-9 * expected->at(512));
+  EXPECT_NEAR(read->per_vpl_ms, expected->per_vpl_ms, 1e-12);
+  EXPECT_FALSE(elsewhere.read(files[0]));
+  EXPECT_EQ(elsewhere.frames(), 0u);
+
+  std::ofstream(files[0], std::ios::app) << "4 1 nan 0.5 0.5\n4 1 256 -1 0.5\nnot a line\n";
+  CostModel damaged("test device A");
+  ASSERT_TRUE(damaged.read(files[0]));
+  EXPECT_EQ(damaged.frames(), 2u);
+  std::ofstream(files[0], std::ios::trunc) << "something else\ndevice test device A\n4 1 256 0.05 0.5\n";
+  EXPECT_FALSE(CostModel("test device A").read(files[0]));
+  std::filesystem::remove_all(directory);
 }
 
 // A budget buys the VPLs that fill it; below the fixed cost of the second bounce, one bounce; below Topology's

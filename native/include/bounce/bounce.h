@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 10
+#define BOUNCE_API_VERSION 11
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,
@@ -380,6 +380,14 @@ typedef struct BounceTopologyInfo {
 } BounceTopologyInfo;
 
 BOUNCE_API BounceStatus bounce_topology_info(BounceEngine* engine, BounceTopologyInfo* out);
+
+/* ---- Auto's cost model ------------------------------------------------------------------------------- */
+
+/* Keeps Auto's cost model (what a sample costs on this machine, learned from the frames rendered) in `directory`
+ * (created when needed), one file per device, read by the engines of later processes: a farm's `blender -b` runs
+ * start from what the earlier ones on the machine measured. NULL or "" keeps it in memory only (the default).
+ * Process-wide; a file that cannot be read or written is ignored. */
+BOUNCE_API BounceStatus bounce_cost_model_directory(const char* directory);
 
 #ifdef __cplusplus
 }

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -102,19 +103,22 @@ bool CostModel::write(const std::filesystem::path& file) const {
       for (const Observation& o : seen)
         text << key.first << ' ' << key.second << ' ' << o.vpls << ' ' << o.ms_per_pixel << ' ' << o.vpl_share << '\n';
   }
-  // Written beside and renamed over: a process reading it meanwhile sees the old model or the new, whole.
+  // Written beside, under a name no other writer uses (another process, or another engine of this one finishing
+  // a render at the same time), and renamed over: a reader sees the old model or the new, whole.
+  static std::atomic<uint64_t> writes{0};
   std::error_code error;
   std::filesystem::create_directories(file.parent_path(), error);
   std::filesystem::path partial = file;
-  partial += "." + std::to_string(::getpid()) + ".partial";
+  partial += "." + std::to_string(::getpid()) + "-" + std::to_string(writes.fetch_add(1)) + ".partial";
   {
     std::ofstream out(partial, std::ios::trunc);
     out << text.str();
     if (!out.flush()) return false;
   }
   std::filesystem::rename(partial, file, error);
-  if (error) std::filesystem::remove(partial, error);
-  return !error;
+  if (!error) return true;
+  std::filesystem::remove(partial, error);
+  return false;
 }
 
 bool CostModel::read(const std::filesystem::path& file) {
@@ -128,8 +132,8 @@ bool CostModel::read(const std::filesystem::path& file) {
     int32_t method = 0, bounces = 0;
     Observation o{};
     if (!(fields >> method >> bounces >> o.vpls >> o.ms_per_pixel >> o.vpl_share)) continue;
-    if (!(o.vpls >= 1.0 && o.ms_per_pixel > 0.0 && std::isfinite(o.ms_per_pixel) && o.vpl_share >= 0.0 &&
-          o.vpl_share <= 1.0))
+    if (!(o.vpls >= 1.0 && std::isfinite(o.vpls) && o.ms_per_pixel > 0.0 && std::isfinite(o.ms_per_pixel) &&
+          o.vpl_share >= 0.0 && o.vpl_share <= 1.0))
       continue;  // a damaged line is not a measurement
     read[key_of(method, bounces)].push_back(o);
   }

@@ -49,8 +49,7 @@ CostModel& CostModel::of_device(const std::string& device) {
   std::unique_ptr<CostModel>& model = r.models[device];
   if (!model) {
     model = std::make_unique<CostModel>(device);
-    model->file_ = file_of(r.directory, device);
-    if (!model->file_.empty()) model->read(model->file_);
+    model->keep_at(file_of(r.directory, device));
   }
   return *model;
 }
@@ -59,16 +58,16 @@ void CostModel::keep_in(const std::filesystem::path& directory) {
   Registry& r = registry();
   const std::lock_guard lock(r.mutex);
   r.directory = directory;
-  for (auto& [device, model] : r.models) {
-    const std::filesystem::path file = file_of(directory, device);
-    bool moved = false;
-    {
-      const std::lock_guard model_lock(model->mutex_);
-      moved = model->file_ != file;
-      model->file_ = file;
-    }
-    if (moved && !file.empty()) model->read(file);
+  for (auto& [device, model] : r.models) model->keep_at(file_of(directory, device));
+}
+
+void CostModel::keep_at(const std::filesystem::path& file) {
+  {
+    const std::lock_guard lock(mutex_);
+    if (file == file_) return;
+    file_ = file;
   }
+  if (!file.empty()) read(file);
 }
 
 void CostModel::observe(const BounceSettings& settings, int64_t pixels, double sample_ms, double vpl_share) {

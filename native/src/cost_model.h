@@ -62,6 +62,8 @@ class CostModel {
   bool read(const std::filesystem::path& file);
 
  private:
+  // Where it is kept from now on (empty: nowhere); reads that file when it is another.
+  void keep_at(const std::filesystem::path& file);
   struct Observation {
     double vpls, ms_per_pixel, vpl_share;
   };

@@ -151,6 +151,10 @@ class Blender:
 
 def pytest_configure(config):
     config.addinivalue_line("markers", "slow: renders that take more than a few seconds")
+    config.addinivalue_line(
+        "markers", "core: checks the native core's numbers through Blender (convergence, determinism, every method "
+        "on an input the export already handled): the same on every Blender version, so scripts/test runs it on "
+        "the host's Blender only")
 
 
 def pytest_sessionstart(session):

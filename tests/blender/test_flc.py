@@ -27,6 +27,7 @@ def furnace(blender, out_root):
     return {int(samples): read_exr(path) for samples, path in exrs.items()}
 
 
+@pytest.mark.core
 def test_furnace_converges_to_the_first_bounce(furnace):
     errors = {}
     for samples in FURNACE_SAMPLES:
@@ -55,6 +56,7 @@ def cornell_seeds(blender, cornell_blend, out_root):
     return images
 
 
+@pytest.mark.core
 def test_same_seed_same_image_other_seed_other_image(cornell_seeds):
     a, b, c = cornell_seeds["a"], cornell_seeds["b"], cornell_seeds["c"]
     assert a.mean() > 0.0, "the Cornell box has indirect light"

@@ -27,6 +27,7 @@ def furnace(blender, out_root):
     return read_exr(json.loads((out / "furnace.json").read_text())["exr"]["16"])
 
 
+@pytest.mark.core
 def test_furnace_converges_to_both_bounces(furnace):
     indirect = layer_pass(furnace, "Indirect")
     second = layer_pass(furnace, "Second Bounce")

@@ -30,7 +30,10 @@ def read_png(path):
     return pixels.reshape(image.spec().height, image.spec().width, -1)
 
 
-@pytest.fixture(scope="module", params=["AUTO", "FLC", "SSVP", "TOPOLOGY"])
+# Blender draws every method's frame the same way: FLC and Auto (Topology's plan) check the drawing on every Blender
+# version, SSVP and Topology add the methods (core tests, the host's Blender only).
+@pytest.fixture(scope="module", params=["AUTO", "FLC", pytest.param("SSVP", marks=pytest.mark.core),
+                                        pytest.param("TOPOLOGY", marks=pytest.mark.core)])
 def viewport_run(blender, out_root, request):
     if shutil.which("xvfb-run") is None and not CHROOT:
         pytest.skip("xvfb-run is not installed (package xvfb)")

@@ -8,8 +8,8 @@
 // RSM", which leaves the transfer open; treating the cluster as one light at its centre (the members' cosine
 // lobes from there) let light through wherever the centre floats away from its members: a cluster mixing a
 // sunlit roof and a courtyard floor lit the galleries under the roof from mid-air, 4-7x too bright. The map
-// still decides which surfaces the centre sees. Each VPL is later shadowed by the map of the cluster nearest it
-// under Eq. 2.
+// still decides which surfaces the centre sees. The VPLs are then clustered on their own, and each is shadowed
+// by its cluster's map.
 #include "ssvp/ssvp_common.glsl"
 
 layout(local_size_x = 64) in;
@@ -42,17 +42,7 @@ void main() {
     int first = int(cluster.position_first.w);
     int count = int(cluster.normal_count.w);
     for (int i = first; i < first + count; ++i) irradiance += vpl_irradiance(first_vpls[i], y, n);
-    int nearest = c;
-    float nearest_distance = 1e30;
-    for (int k = 0; k < ssvp.cluster_count; ++k) {
-      float d = ssvp_cluster_distance(y, n, clusters[k].position_first.xyz, clusters[k].normal_count.xyz, ssvp.w1,
-                                      ssvp.w2, ssvp.length_scale);
-      if (d < nearest_distance) {
-        nearest_distance = d;
-        nearest = k;
-      }
-    }
-    vpl.position_cluster = vec4(y, float(nearest));
+    vpl.position_cluster = vec4(y, float(c));  // until SsvpPass::cluster_second_bounce clusters it
     // The surface this VPL stands for: its solid angle seen from the centre, at its distance and slant.
     vec3 to_centre = cluster.position_first.xyz - y;
     float d2 = dot(to_centre, to_centre);

@@ -22,9 +22,13 @@
 //   propagate    - second-bounce VPLs (Sec. II-B) at uniform unit-disk points of each cluster's map, each
 //                  carrying albedo x the cluster's intensity towards it (its members' cosine lobes) x the solid
 //                  angle its disk area covers (the map's Jacobian, 4 / (1 + r^2)^2).
+//   second       - not in the paper. With VPL Importance, the second-bounce VPLs are traced instead (Embree:
+//                  cosine rays from the first-bounce candidates, the hits kept by importance as the first
+//                  bounce's are; see trace_second_bounce). Either way they are read back and clustered as the
+//                  first-bounce VPLs are, each cluster with its own paraboloid map after the first bounce's.
 //   shade        - interleaved (Sec. II-C): the pixels of each tile take one share of the VPLs each. A
 //                  first-bounce VPL is shadowed by its own cluster's paraboloid map (clustered visibility, Dong
-//                  et al. 2009); a second-bounce VPL by the map of the cluster nearest it under Eq. 2. Then the
+//                  et al. 2009); a second-bounce VPL by its own second-bounce cluster's map. Then the
 //                  geometry-aware blur recombines the pixels. Output: linear irradiance / pi of each bounce;
 //                  the compose pass multiplies the albedo (no tone mapping: Blender's colour management does the
 //                  display transform).
@@ -87,15 +91,17 @@ class SsvpPass {
   void render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light);
   void sample_first_bounce(const RenderContext& context, const BounceLight& light);
   void cluster(const RenderContext& context, const cpu::CpuScene* traced);
-  void render_paraboloids(const RenderContext& context);
+  void allocate_paraboloids(const RenderContext& context, int layers);
+  void render_paraboloids(const RenderContext& context, int begin, int end);  // layers [begin, end)
   void propagate(const RenderContext& context);
+  void cluster_second_bounce(const RenderContext& context, const cpu::CpuScene* traced);
   void shade_vpls(const RenderContext& context, const GBuffer& camera);
   void draw_debug(const RenderContext& context, const GBuffer& camera);
 
   gl::Program sample_program_, paraboloid_program_, propagate_program_, shade_program_, debug_program_;
   GeometryBlur blur_total_, blur_second_;
   gl::Buffer params_buffer_, light_buffer_, points_, first_vpls_, clusters_buffer_, second_vpls_;
-  gl::Readback first_vpls_readback_;
+  gl::Readback first_vpls_readback_, second_vpls_readback_;
   std::size_t points_capacity_ = 0, first_capacity_ = 0, clusters_capacity_ = 0, second_capacity_ = 0;
   SsvpParams params_{};
   Rsm rsm_;
@@ -112,8 +118,10 @@ class SsvpPass {
 
   std::vector<glm::vec2> disk_points_;
   std::vector<ssvp::Cluster> clusters_, previous_clusters_;
+  std::vector<ssvp::Cluster> second_clusters_, previous_second_clusters_;  // their maps follow the first's
   uint32_t first_count_ = 0, second_count_ = 0;
-  int first_wanted_ = 0;  // first-bounce VPLs kept; the sample pass makes more candidates with VPL Importance
+  int first_wanted_ = 0,
+      second_wanted_ = 0;  // first-bounce VPLs kept; the sample pass makes more candidates with VPL Importance
   int main_light_ = -1;
   float max_tess_level_ = 64.0f;
 };

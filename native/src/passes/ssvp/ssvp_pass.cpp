@@ -20,6 +20,10 @@
 
 namespace bounce {
 
+struct SsvpPass::GpuVpl {
+  glm::vec4 position_cluster, normal, flux;
+};
+
 namespace {
 
 constexpr GLuint kParamsBlock = 5;
@@ -39,12 +43,19 @@ constexpr double kRsmMemoryBudget = 1024.0 * 1024.0 * 1024.0;
 constexpr int kParaboloidBytesPerTexel = 16 + 8 + 8 + 4;
 constexpr float kMinSecondCosine = 1e-2f;  // as MIN_COSINE in ssvp_propagate.comp
 
-struct GpuVpl {
-  glm::vec4 position_cluster, normal, flux;
-};
+using GpuVpl = SsvpPass::GpuVpl;
 struct GpuCluster {
   glm::vec4 position_first, normal_count, tangent, bitangent;
 };
+
+// The VPLs of a GPU buffer that exist (their sample met a surface) and carry light.
+std::vector<GpuVpl> read_lit_vpls(gl::Readback& readback, GLuint buffer, std::size_t count) {
+  std::vector<GpuVpl> read(count), lit;
+  readback.read(buffer, count * sizeof(GpuVpl), read.data());
+  for (const GpuVpl& v : read)
+    if (v.flux.w != 0.0f && v.flux.r + v.flux.g + v.flux.b > 0.0f) lit.push_back(v);
+  return lit;
+}
 
 struct Probe {
   glm::vec3 position, normal, albedo;
@@ -343,7 +354,7 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
 
   render_rsm(context, gbuffers, light);
   sample_first_bounce(context, light);
-  cluster(context, traced);
+  std::vector<GpuVpl> second = cluster(context, traced);  // traced with VPL Importance, else propagated below
   if (clusters_.empty()) {
     first_count_ = 0;
     return;
@@ -356,8 +367,11 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   render_paraboloids(context, 0, first_layers);
   second_clusters_.clear();
   if (p.bounces > 1) {
-    if (!traced) propagate(context);
-    cluster_second_bounce(context, traced);
+    if (!traced) {
+      propagate(context);
+      second = read_propagated();
+    }
+    cluster_second_bounce(context, std::move(second), traced);
     render_paraboloids(context, first_layers, first_layers + static_cast<int>(second_clusters_.size()));
   }
 }
@@ -452,30 +466,22 @@ void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLig
   gl::check("sampling the first-bounce VPLs");
 }
 
-void SsvpPass::cluster(const RenderContext& context, const cpu::CpuScene* traced) {
+std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::CpuScene* traced) {
   SsvpParams& p = params_;
-  std::vector<GpuVpl> candidates;
+  std::vector<GpuVpl> candidates, second;
   {
     StageScope scope(context.timer, Stage::SsvpCluster);
-    std::vector<GpuVpl> sampled(static_cast<std::size_t>(p.first_count));
-    first_vpls_readback_.read(first_vpls_.id(), sampled.size() * sizeof(GpuVpl), sampled.data());
-    for (const GpuVpl& v : sampled)
-      if (v.flux.w != 0.0f && v.flux.r + v.flux.g + v.flux.b > 0.0f) candidates.push_back(v);
+    candidates = read_lit_vpls(first_vpls_readback_, first_vpls_.id(), static_cast<std::size_t>(p.first_count));
   }
   std::vector<GpuVpl> vpls = candidates;
-  second_count_ = 0;
   if (traced) {
     StageScope scope(context.timer, Stage::SsvpImportance);
     const uint32_t key = hash_combine(context.seed, context.sample ^ 0x494d5054u);
     const std::vector<Probe> probes = camera_probes(context, *traced, key);
     vpls =
         draw_by_importance(candidates, first_wanted_, probes, *traced, p.epsilon, hash_to_unit(hash_combine(key, 1u)));
-    if (p.bounces > 1) {
-      const std::vector<GpuVpl> second =
-          trace_second_bounce(candidates, second_wanted_, probes, *traced, p.epsilon, hash_combine(key, 0x32u));
-      second_count_ = static_cast<uint32_t>(second.size());
-      gl::upload_buffer(second_vpls_, second_capacity_, second.size() * sizeof(GpuVpl), second.data());
-    }
+    if (p.bounces > 1)
+      second = trace_second_bounce(candidates, second_wanted_, probes, *traced, p.epsilon, hash_combine(key, 0x32u));
   }
   StageScope scope(context.timer, Stage::SsvpCluster);
   const ssvp::ClusterMetric metric{p.w1, p.w2, p.length_scale};
@@ -484,14 +490,14 @@ void SsvpPass::cluster(const RenderContext& context, const cpu::CpuScene* traced
                    context.settings.ssvp_temporal_seeding ? previous_clusters_ : std::vector<ssvp::Cluster>(),
                    hash_combine(context.seed, 0x4b4du), kCentreLift * p.length_scale, traced, 0);
   clusters_ = first.clusters;
-  if (clusters_.empty()) return;
+  if (clusters_.empty()) return {};
   previous_clusters_ = clusters_;
 
   const std::vector<GpuCluster> first_clusters = gpu_clusters(first);
   first_count_ = static_cast<uint32_t>(vpls.size());
   p.first_count = static_cast<int32_t>(first_count_);
   p.cluster_count = static_cast<int32_t>(clusters_.size());
-  if (p.bounces > 1 && !traced) second_count_ = static_cast<uint32_t>(p.cluster_count * p.second_per_cluster);
+  second_count_ = p.bounces > 1 && !traced ? static_cast<uint32_t>(p.cluster_count * p.second_per_cluster) : 0;
   p.second_count = static_cast<int32_t>(second_count_);
   // The shaders find the disk points right after the `first_count` first-bounce points.
   glNamedBufferSubData(points_.id(), static_cast<GLintptr>(first_count_ * sizeof(glm::vec2)),
@@ -504,18 +510,17 @@ void SsvpPass::cluster(const RenderContext& context, const cpu::CpuScene* traced
   if (!traced) gl::reserve_buffer(second_vpls_, second_capacity_, second_count_ * sizeof(GpuVpl));
   glNamedBufferSubData(params_buffer_.id(), 0, sizeof p, &p);
   gl::check("clustering the first-bounce VPLs");
+  return second;
 }
 
-void SsvpPass::cluster_second_bounce(const RenderContext& context, const cpu::CpuScene* traced) {
+std::vector<GpuVpl> SsvpPass::read_propagated() {
+  return read_lit_vpls(second_vpls_readback_, second_vpls_.id(), second_count_);
+}
+
+void SsvpPass::cluster_second_bounce(const RenderContext& context, std::vector<GpuVpl> vpls,
+                                     const cpu::CpuScene* traced) {
   StageScope scope(context.timer, Stage::SsvpCluster);
   SsvpParams& p = params_;
-  std::vector<GpuVpl> vpls;
-  {
-    std::vector<GpuVpl> made(second_count_);  // propagated on the GPU, or traced
-    second_vpls_readback_.read(second_vpls_.id(), made.size() * sizeof(GpuVpl), made.data());
-    for (const GpuVpl& v : made)
-      if (v.flux.w != 0.0f && v.flux.r + v.flux.g + v.flux.b > 0.0f) vpls.push_back(v);
-  }
   const ssvp::ClusterMetric metric{p.w1, p.w2, p.length_scale};
   const uint32_t offset = static_cast<uint32_t>(clusters_.size());
   const VplClusters second =
@@ -530,8 +535,7 @@ void SsvpPass::cluster_second_bounce(const RenderContext& context, const cpu::Cp
   glNamedBufferSubData(clusters_buffer_.id(), static_cast<GLintptr>(offset * sizeof(GpuCluster)),
                        static_cast<GLsizeiptr>(second_gpu_clusters.size() * sizeof(GpuCluster)),
                        second_gpu_clusters.data());
-  if (!vpls.empty())
-    glNamedBufferSubData(second_vpls_.id(), 0, static_cast<GLsizeiptr>(vpls.size() * sizeof(GpuVpl)), vpls.data());
+  gl::upload_buffer(second_vpls_, second_capacity_, vpls.size() * sizeof(GpuVpl), vpls.data());
   glNamedBufferSubData(params_buffer_.id(), 0, sizeof p, &p);
   gl::check("clustering the second-bounce VPLs");
 }

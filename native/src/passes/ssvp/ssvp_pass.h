@@ -62,6 +62,8 @@ struct SsvpParams {
 
 class SsvpPass {
  public:
+  struct GpuVpl;  // std430 mirror of shaders/ssvp/ssvp_common.glsl `Vpl` (ssvp_pass.cpp)
+
   SsvpPass();
   // Once per sample, for the whole view (`context` covers every tile): the light's RSM, the VPLs, their
   // clusters and paraboloid maps, the second bounce. `traced`: Embree's copy of the scene when the frame plan
@@ -90,11 +92,13 @@ class SsvpPass {
 
   void render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light);
   void sample_first_bounce(const RenderContext& context, const BounceLight& light);
-  void cluster(const RenderContext& context, const cpu::CpuScene* traced);
+  // Returns the second-bounce VPLs when it traces them (VPL Importance), else none.
+  std::vector<GpuVpl> cluster(const RenderContext& context, const cpu::CpuScene* traced);
   void allocate_paraboloids(const RenderContext& context, int layers);
   void render_paraboloids(const RenderContext& context, int begin, int end);  // layers [begin, end)
   void propagate(const RenderContext& context);
-  void cluster_second_bounce(const RenderContext& context, const cpu::CpuScene* traced);
+  std::vector<GpuVpl> read_propagated();
+  void cluster_second_bounce(const RenderContext& context, std::vector<GpuVpl> vpls, const cpu::CpuScene* traced);
   void shade_vpls(const RenderContext& context, const GBuffer& camera);
   void draw_debug(const RenderContext& context, const GBuffer& camera);
 

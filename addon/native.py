@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 11  # BOUNCE_API_VERSION this module was written against
+API_VERSION = 12  # BOUNCE_API_VERSION this module was written against
 
 LIBRARY_ENV = "BOUNCE_LIBRARY"
 LIBRARY_NAME = "libbounce.so"
@@ -267,7 +267,8 @@ class FrameInfo(ctypes.Structure):
                 ("method", _i32),
                 ("plan_text", ctypes.c_char * 512),
                 ("shares", LightShares),
-                ("noise_relmse", _f32), ("bias_relmse", _f32)]
+                ("noise_relmse", _f32), ("bias_relmse", _f32),
+                ("aovs", _u32)]
 
     def plan(self):
         """Auto's plan in a few sentences; "" for an explicit method."""

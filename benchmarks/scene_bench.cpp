@@ -123,6 +123,7 @@ void upload_scene(BounceEngine* engine, const bounce::reference::SceneFile& scen
 struct Timing {
   double wall_ms = 0.0;                 // the whole render, per sample
   uint64_t vpls = 0;                    // of the last sample
+  std::string plan;                     // AUTO: what it rendered and why (BounceFrameInfo::plan)
   std::vector<BounceStageTime> stages;  // per sample
 };
 
@@ -136,6 +137,7 @@ Timing render(BounceEngine* engine, const BounceSettings& settings, const Bounce
   BounceFrameInfo info{};
   check(bounce_frame_info(engine, &info), "bounce_frame_info");
   timing.vpls = info.vpl_count;
+  timing.plan = info.plan;
   for (int i = 0; i < info.stage_count; ++i) {
     BounceStageTime stage = info.stages[i];
     stage.gpu_ms /= settings.samples;
@@ -168,6 +170,7 @@ int run(const Options& options) {
               options.repeats);
   std::printf("| method | first render (s) | ms per sample | VPLs | stages, GPU ms per sample (CPU where marked) |\n");
   std::printf("| --- | ---: | ---: | ---: | --- |\n");
+  std::vector<std::string> plans;  // AUTO's, printed under the table
   for (const std::string& method : options.methods) {
     BounceSettings settings;
     bounce_settings_defaults(&settings);
@@ -219,6 +222,7 @@ int run(const Options& options) {
       }
       std::printf("| %s | %.2f | %.2f | %llu | %s |\n", method.c_str(), first_s, wall,
                   static_cast<unsigned long long>(typical.vpls), stage_text.c_str());
+      if (!typical.plan.empty()) plans.push_back(method + ": " + typical.plan);
       std::fflush(stdout);
     } catch (...) {
       bounce_engine_destroy(engine);
@@ -226,6 +230,7 @@ int run(const Options& options) {
     }
     bounce_engine_destroy(engine);
   }
+  for (const std::string& plan : plans) std::printf("\n%s\n", plan.c_str());
   return 0;
 }
 

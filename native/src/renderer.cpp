@@ -279,15 +279,15 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     }
     if (!tiles_take_turns && s + 1 < samples && schedule.publish_due(s + 1)) {
       auto partial = std::make_shared<Frame>();
-      partial->allocate(frame->width, frame->height, aov_bits);
+      partial->allocate(frame->width, frame->height, aov_bits & kPartialFrameAovs);
       read_tile(*partial, tiles[0], s + 1, ComposePass::Into::Replace);
       partial->info.nonfinite_pixels = partial->zero_nonfinite();
-      const bool noise_reached = schedule.published(*partial, s + 1);
+      if (schedule.published(*partial, s + 1)) {  // meets Noise Target: the render's last frame, every AOV read below
+        samples_done = s + 1;
+        break;
+      }
       finish_info(*partial, s + 1);
-      // The frame that meets Noise Target is the render's last: its samples are not read back a second time.
-      if (noise_reached) partial->info.noise_relmse = schedule.noise_relmse(*partial, s + 1);
       callbacks.publish(partial);
-      if (noise_reached) return true;
     }
   }
   if (tiles_take_turns)

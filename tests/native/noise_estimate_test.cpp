@@ -79,6 +79,7 @@ TEST_F(NoiseEstimateTest, NoiseTargetStopsAtTheCheckpointThatMeetsIt) {
     EXPECT_EQ(info.samples & (info.samples - 1), 0);
     EXPECT_GT(info.noise_relmse, 0.0f);
     EXPECT_LE(info.noise_relmse, 0.003f);
+    EXPECT_EQ(info.aovs, bounce_method_aovs(method)) << "the checkpoint's frame is the last: it holds every AOV";
   }
 }
 

@@ -358,6 +358,39 @@ TEST_F(Render, CancelStopsARender) {
   EXPECT_TRUE(all_finite(render()));  // the engine is usable afterwards
 }
 
+// A GPU method's partial frames hold Combined alone (a progressive display's AOV: reading every AOV back at each
+// publish cost a third of a sample on an H100); the render's last frame holds every AOV of its method.
+TEST_F(Render, PartialFramesHoldCombinedTheLastFrameEveryAov) {
+  build_shadow_scene();
+  for (int32_t method : {BOUNCE_METHOD_DIRECT, BOUNCE_METHOD_FLC, BOUNCE_METHOD_SSVP}) {
+    SCOPED_TRACE(method);
+    settings_.method = method;
+    settings_.samples = 5000;
+    ASSERT_BOUNCE_OK(bounce_render_start(engine_, &settings_, &camera_));
+    BounceFrameInfo partial{};  // this render's first frame (the last render's stays published until then)
+    for (const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+         partial.method != method && std::chrono::steady_clock::now() < until;)
+      if (bounce_frame_info(engine_, &partial) != BOUNCE_OK || partial.method != method)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ASSERT_BOUNCE_OK(bounce_render_cancel(engine_));
+    bounce_render_wait(engine_, -1);
+    ASSERT_EQ(partial.method, method) << "no partial frame within a minute";
+    EXPECT_EQ(partial.aovs, 1u << BOUNCE_AOV_COMBINED);
+    std::vector<float> direct(std::size_t(partial.width) * partial.height * 3, -1.0f);
+    ASSERT_BOUNCE_OK(bounce_frame_read(engine_, BOUNCE_AOV_DIRECT, direct.data(), direct.size()));
+    EXPECT_EQ(*std::max_element(direct.begin(), direct.end()), 0.0f) << "an AOV a frame does not hold reads as zeros";
+
+    settings_.samples = 2;
+    const Image last = render();
+    BounceFrameInfo info{};
+    ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+    EXPECT_EQ(info.aovs, bounce_method_aovs(method));
+    ASSERT_BOUNCE_OK(bounce_frame_read(engine_, BOUNCE_AOV_DIRECT, direct.data(), direct.size()));
+    EXPECT_GT(*std::max_element(direct.begin(), direct.end()), 0.0f);
+    EXPECT_TRUE(all_finite(last));
+  }
+}
+
 TEST_F(Render, TwoEnginesAtOnce) {
   build_shadow_scene();
   const Image alone = render();

@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 11
+#define BOUNCE_API_VERSION 12
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,
@@ -349,10 +349,15 @@ typedef struct BounceFrameInfo {
   float bias_relmse;            /* AUTO: the error its plan accepts in the same measure, which more samples do not
                                    remove: what it left out, and its method's bias class on what it simulates
                                    (native/src/auto_plan.h); -1 otherwise */
+  uint32_t aovs;                /* the AOVs the frame holds, as bits 1 << aov: a render's last frame every AOV of
+                                   its method (bounce_method_aovs); the partial frames before it Combined alone,
+                                   which is what a progressive display shows, unless the method computes every AOV
+                                   on the CPU (TOPOLOGY) */
 } BounceFrameInfo;
 
 /* The most recently published frame: after each progressive sample of a render (viewport) and at its end.
- * The engine keeps that frame for bounce_frame_read until the next bounce_frame_info call. */
+ * A partial frame may hold fewer AOVs than the last (BounceFrameInfo::aovs); bounce_frame_read returns zeros for
+ * the others. The engine keeps that frame for bounce_frame_read until the next bounce_frame_info call. */
 BOUNCE_API BounceStatus bounce_frame_info(BounceEngine* engine, BounceFrameInfo* out);
 /* Copies one AOV of the frame the last bounce_frame_info call described (so a frame published in between, e.g.
  * of another size after a viewport resize, does not change what is read), rows bottom first, channels

@@ -1,8 +1,9 @@
 // bounce_scene_fuzz [--seed S] [--cases N] [--minutes M] [--repros DIR] [--verbose]: runs cases 0, 1, ... of seed S
 // (until N cases or M minutes, whichever comes first; 100 cases when neither is given) and writes a repro file into DIR
 // (default tests/native/fuzz_repros) for each case that fails, so that SceneFuzz.Repros replays it. Each case runs in a
-// child process: a crash, an abort or a hang (over a minute) fails that case alone, and the run goes on. --verbose
-// prints why the engine refused the cases it did not render (an error with its message, which is allowed).
+// child process: a crash, an abort or a hang (over a minute) fails that case alone, and the run goes on. Its counts
+// so far are printed every 1,000 cases. --verbose prints why the engine refused the cases it did not render (an error
+// with its message, which is allowed).
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -97,6 +98,13 @@ int main(int argc, char** argv) {
   uint64_t index = 0, failed = 0, rendered = 0;
   for (; index < cases && (minutes <= 0.0 || elapsed_minutes() < minutes); ++index) {
     const Repro repro{seed, index};
+    if (index > 0 && index % 1000 == 0) {  // a long run shows it is alive, and what it has done if it is stopped
+      std::printf("seed %llu: %llu cases, %llu rendered, %llu failed (%.1f min)\n",
+                  static_cast<unsigned long long>(seed), static_cast<unsigned long long>(index),
+                  static_cast<unsigned long long>(rendered), static_cast<unsigned long long>(failed),
+                  elapsed_minutes());
+      std::fflush(stdout);
+    }
     const CaseResult result = run_isolated(repro);
     rendered += result.rendered;
     if (verbose && !result.rendered)

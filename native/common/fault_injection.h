@@ -3,6 +3,7 @@
 //   egl      no EGL display: creating an engine fails as on a machine without EGL
 //   gl-oom   every texture allocation fails as a driver out of GPU memory does (frames, shadow maps, textures)
 //   embree   Embree cannot create a device
+//   low-gpu-memory  a frame's accumulation targets never fit in GPU memory at once: its tiles take turns
 // Read at each point of failure, not once, so that a test turns a failure on and off between renders.
 #pragma once
 

@@ -64,9 +64,20 @@ TEST_F(Render, TilesAndCropsMatchTheWholeImage) {
 // Tiles share each sample's shadow maps and its VPLs (Forward Light Cuts', and SSVP's with their clusters and
 // paraboloid maps): a tiled frame is the untiled one, up to what a tile's own border changes (the interleaving and
 // the blur restart at it), and costs little more (printed, not asserted: the machine is noisy).
-class TiledRender : public Render, public ::testing::WithParamInterface<int> {};
-INSTANTIATE_TEST_SUITE_P(Methods, TiledRender, ::testing::Values(BOUNCE_METHOD_FLC, BOUNCE_METHOD_SSVP),
-                         [](const auto& info) { return info.param == BOUNCE_METHOD_FLC ? "Flc" : "Ssvp"; });
+// Tiles keep their sums on the GPU while the frame's fit in its memory, and take turns with one set of targets
+// otherwise (injected: low-gpu-memory); both give the same frame.
+struct TiledCase {
+  int32_t method;
+  bool take_turns;
+};
+class TiledRender : public Render, public ::testing::WithParamInterface<TiledCase> {};
+INSTANTIATE_TEST_SUITE_P(Methods, TiledRender,
+                         ::testing::Values(TiledCase{BOUNCE_METHOD_FLC, false}, TiledCase{BOUNCE_METHOD_SSVP, false},
+                                           TiledCase{BOUNCE_METHOD_FLC, true}, TiledCase{BOUNCE_METHOD_SSVP, true}),
+                         [](const auto& info) {
+                           return std::string(info.param.method == BOUNCE_METHOD_FLC ? "Flc" : "Ssvp") +
+                                  (info.param.take_turns ? "TakingTurns" : "");
+                         });
 
 TEST_P(TiledRender, TiledFrameEqualsTheUntiledOne) {
   build_shadow_scene();
@@ -76,7 +87,7 @@ TEST_P(TiledRender, TiledFrameEqualsTheUntiledOne) {
                  glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0, 2, 2)), kPi / 2, glm::vec3(1, 0, 0))});
   set_camera(glm::lookAt(glm::vec3(0, -6, 4), glm::vec3(0), glm::vec3(0, 0, 1)),
              glm::perspective(0.8f, 4.0f / 3.0f, 0.1f, 100.0f), 128, 96);
-  settings_.method = GetParam();
+  settings_.method = GetParam().method;
   settings_.flc_visibility = 0;
   settings_.samples = 8;
   settings_.filter_width = 1.5f;
@@ -89,7 +100,10 @@ TEST_P(TiledRender, TiledFrameEqualsTheUntiledOne) {
   const double untiled_seconds = seconds();
   const Image direct = read(BOUNCE_AOV_DIRECT), indirect = read(BOUNCE_AOV_INDIRECT);
   settings_.tile_size = 64;  // 2 x 2 tiles
+  if (GetParam().take_turns) setenv("BOUNCE_INJECT_FAULT", "low-gpu-memory", 1);
+  seconds();  // allocates the tiles' passes
   const double tiled_seconds = seconds();
+  unsetenv("BOUNCE_INJECT_FAULT");
   const Image tiled_direct = read(BOUNCE_AOV_DIRECT), tiled_indirect = read(BOUNCE_AOV_INDIRECT);
   // Direct light: the same but for a few pixels on edges, where the tile's projection rounds differently.
   int differing = 0;

@@ -345,7 +345,8 @@ typedef struct BounceFrameInfo {
   BounceLightShares shares;     /* AUTO: the analysis the plan came from; zeros otherwise */
   float noise_relmse;           /* the noise its samples left, estimated as the benchmarks' relMSE (mean of
                                    (x - r)^2 / (r^2 + 0.01) over the RGB values of Combined, r the converged image):
-                                   native/src/noise_estimate.h; -1 where unknown (one sample, or a tiled render) */
+                                   native/src/noise_estimate.h; -1 where unknown (one sample, or tiles that take
+                                   turns: the tile_size setting) */
   float bias_relmse;            /* AUTO: the error its plan accepts in the same measure, which more samples do not
                                    remove: what it left out, and its method's bias class on what it simulates
                                    (native/src/auto_plan.h); -1 otherwise */

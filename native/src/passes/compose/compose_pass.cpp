@@ -10,32 +10,38 @@ ComposePass::ComposePass()
     : program_(gl::build_program(
           {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "compose/compose.frag"}})),
       add_times_albedo_(gl::build_program(
-          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "compose/add_times_albedo.frag"}})) {}
+          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "compose/add_times_albedo.frag"}})),
+      slots_(1) {}
 
-void ComposePass::clear(int width, int height) {
-  if (width_ != width || height_ != height) {
+void ComposePass::keep_slots(int count) { slots_.resize(std::size_t(std::max(count, 1))); }
+
+void ComposePass::clear(int slot, int width, int height) {
+  Targets& targets = slots_.at(std::size_t(slot));
+  if (targets.width != width || targets.height != height) {
     std::vector<GLuint> ids;
     for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov) {
-      targets_[aov] = gl::make_texture_2d(aov == BOUNCE_AOV_DEPTH ? GL_R32F : GL_RGBA32F, width, height);
-      if (aov < kComposedAovs) ids.push_back(targets_[aov].id());
+      targets.textures[aov] = gl::make_texture_2d(aov == BOUNCE_AOV_DEPTH ? GL_R32F : GL_RGBA32F, width, height);
+      if (aov < kComposedAovs) ids.push_back(targets.textures[aov].id());
     }
-    framebuffer_ = gl::make_framebuffer(ids, 0);
-    second_bounce_framebuffer_ = gl::make_framebuffer({targets_[BOUNCE_AOV_SECOND_BOUNCE].id()}, 0);
+    targets.framebuffer = gl::make_framebuffer(ids, 0);
+    targets.second_bounce_framebuffer = gl::make_framebuffer({targets.textures[BOUNCE_AOV_SECOND_BOUNCE].id()}, 0);
     gl::check("allocating the accumulation targets");
-    width_ = width;
-    height_ = height;
+    targets.width = width;
+    targets.height = height;
   }
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   const float background_depth[4] = {1e10f, 0.0f, 0.0f, 0.0f};
   for (int aov = 0; aov < kComposedAovs; ++aov)
-    glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, aov, aov == BOUNCE_AOV_DEPTH ? background_depth : zero);
-  glClearNamedFramebufferfv(second_bounce_framebuffer_.id(), GL_COLOR, 0, zero);
+    glClearNamedFramebufferfv(targets.framebuffer.id(), GL_COLOR, aov,
+                              aov == BOUNCE_AOV_DEPTH ? background_depth : zero);
+  glClearNamedFramebufferfv(targets.second_bounce_framebuffer.id(), GL_COLOR, 0, zero);
 }
 
-void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct,
+void ComposePass::accumulate(int slot, const RenderContext& context, const GBuffer& gbuffer, GLuint direct,
                              const Indirect& indirect) {
   StageScope scope(context.timer, Stage::Compose);
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  const Targets& targets = slots_.at(std::size_t(slot));
+  glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer.id());
   glViewport(0, 0, context.width, context.height);
   gbuffer.bind_for_reading();
   glBindTextureUnit(8, direct);
@@ -62,7 +68,7 @@ void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffe
   }
   draw_fullscreen_triangle();
   if (indirect.second_bounce != 0) {
-    glBindFramebuffer(GL_FRAMEBUFFER, second_bounce_framebuffer_.id());
+    glBindFramebuffer(GL_FRAMEBUFFER, targets.second_bounce_framebuffer.id());
     glBindTextureUnit(12, indirect.second_bounce);
     glUseProgram(add_times_albedo_.id());
     glBlendFunci(0, GL_ONE, GL_ONE);
@@ -72,17 +78,18 @@ void ComposePass::accumulate(const RenderContext& context, const GBuffer& gbuffe
   glDisable(GL_BLEND);
 }
 
-void ComposePass::read(int aov, int samples, float* frame, int frame_width, int x, int y, Into into) const {
+void ComposePass::read(int slot, int aov, int samples, float* frame, int frame_width, int x, int y, Into into) const {
+  const Targets& targets = slots_.at(std::size_t(slot));
   const int channels = bounce_aov_channels(aov);
   const bool depth = aov == BOUNCE_AOV_DEPTH;
-  scratch_.resize(std::size_t(width_) * height_ * (depth ? 1 : 4));
-  glGetTextureImage(targets_[aov].id(), 0, depth ? GL_RED : GL_RGBA, GL_FLOAT,
+  scratch_.resize(std::size_t(targets.width) * targets.height * (depth ? 1 : 4));
+  glGetTextureImage(targets.textures[aov].id(), 0, depth ? GL_RED : GL_RGBA, GL_FLOAT,
                     static_cast<GLsizei>(scratch_.size() * sizeof(float)), scratch_.data());
   const float scale = depth ? 1.0f : 1.0f / static_cast<float>(samples);
   const int stride = depth ? 1 : 4;
-  for (int row = 0; row < height_; ++row) {
-    for (int col = 0; col < width_; ++col) {
-      const float* src = scratch_.data() + (std::size_t(row) * width_ + col) * stride;
+  for (int row = 0; row < targets.height; ++row) {
+    for (int col = 0; col < targets.width; ++col) {
+      const float* src = scratch_.data() + (std::size_t(row) * targets.width + col) * stride;
       float* dst = frame + ((std::size_t(y) + row) * frame_width + x + col) * channels;
       for (int c = 0; c < channels; ++c) {
         const float value = src[c] * scale;

@@ -14,7 +14,11 @@ namespace bounce {
 class ComposePass {
  public:
   ComposePass();
-  void clear(int width, int height);
+  // Accumulation slots: each holds one tile's sums. One tile, or tiles that keep their sums on the GPU across
+  // samples, take a slot each; tiles that take turns share slot 0. Slots from `count` on are freed.
+  void keep_slots(int count);
+  static constexpr double kBytesPerPixel = 9 * 16 + 4;  // a slot's targets: RGBA32F AOVs and R32F Depth
+  void clear(int slot, int width, int height);
   // What an indirect method hands over; textures are 0 where it has none.
   struct Indirect {
     GLuint light = 0;  // reflected radiance, or irradiance / pi when times_albedo
@@ -22,21 +26,26 @@ class ComposePass {
     GLuint vpls = 0;           // debug view
     GLuint second_bounce = 0;  // irradiance / pi
   };
-  void accumulate(const RenderContext& context, const GBuffer& gbuffer, GLuint direct, const Indirect& indirect);
+  void accumulate(int slot, const RenderContext& context, const GBuffer& gbuffer, GLuint direct,
+                  const Indirect& indirect);
   // Replace: averages `samples` accumulated samples of AOV `aov` into dst (width * height * channels floats) at
   // the pixel offset (x, y) of a frame `frame_width` wide. Add: the targets hold one sample of `samples`, added
   // to what the frame holds (Depth: the nearest), for tiles that take turns with the targets.
   // Frame::zero_nonfinite then clears what is not finite.
   enum class Into { Replace, Add };
-  void read(int aov, int samples, float* frame, int frame_width, int x, int y, Into into = Into::Replace) const;
+  void read(int slot, int aov, int samples, float* frame, int frame_width, int x, int y,
+            Into into = Into::Replace) const;
 
  private:
   static constexpr int kComposedAovs = 8;  // written by compose.frag at once (GL guarantees 8 draw buffers)
+  struct Targets {
+    std::array<gl::Texture, BOUNCE_AOV_COUNT> textures;
+    gl::Framebuffer framebuffer, second_bounce_framebuffer;
+    int width = 0, height = 0;
+  };
 
   gl::Program program_, add_times_albedo_;
-  std::array<gl::Texture, BOUNCE_AOV_COUNT> targets_;
-  gl::Framebuffer framebuffer_, second_bounce_framebuffer_;
-  int width_ = 0, height_ = 0;
+  std::vector<Targets> slots_;
   mutable std::vector<float> scratch_;
 };
 

@@ -90,8 +90,17 @@ void Engine::set_lights(uint32_t count, const BounceLight* lights) {
 void Engine::set_world(const BounceWorld& world) {
   BounceWorld w = world;
   for (float& c : w.background) c = std::isfinite(c) ? std::clamp(c, 0.0f, kMaxIntensity) : 0.0f;
-  // A non-finite or singular mapping (a Mapping node scaled to 0) maps nothing: the identity instead.
-  const glm::mat3 mapping = glm::make_mat3(w.world_to_environment);
+  // Only the direction the mapping gives is looked up: it is scaled to a largest entry of 1, so that a huge
+  // entry cannot overflow a direction (1e30 x 1e30 is no float). A non-finite or singular mapping (a Mapping node
+  // scaled to 0, or one axis 1e12 times another) maps nothing: the identity instead.
+  glm::mat3 mapping = glm::make_mat3(w.world_to_environment);
+  float largest = 0.0f;
+  for (int column = 0; column < 3; ++column)
+    for (int row = 0; row < 3; ++row) largest = std::max(largest, std::abs(mapping[column][row]));
+  if (std::isfinite(largest) && largest > 0.0f) {
+    mapping /= largest;
+    std::memcpy(w.world_to_environment, &mapping[0][0], sizeof w.world_to_environment);
+  }
   const float det = glm::determinant(mapping);
   if (!std::isfinite(det) || std::abs(det) < 1e-12f) {
     const glm::mat3 identity(1.0f);

@@ -25,8 +25,8 @@ namespace bounce {
 //   - a point, spot or area light placed beyond kMaxCoordinate is skipped (out_of_range_lights); a sun has no
 //     position and is kept;
 //   - a light brighter than kMaxIntensity is dimmed to it, its colour kept, and radii and area sizes beyond
-//     kMaxCoordinate are cut to it (clamped_lights); float texels and the world's factor are clamped to
-//     [0, kMaxIntensity] and non-finite ones zeroed (their product stays finite).
+//     kMaxCoordinate are cut to it (clamped_lights); float texels, materials' emission and the world's factor are
+//     clamped to [0, kMaxIntensity] and non-finite ones zeroed (their products stay finite).
 // 1e9 m (a million kilometres, where float32 steps by 64 m) keeps planet-sized scenes while leaving nine orders of
 // magnitude to Embree's limit and the squares of distances; 1e15 W/sr times the largest area or sun disk the range
 // allows (~1e19 m^2) stays a thousand times below FLT_MAX.
@@ -274,7 +274,7 @@ std::vector<BounceMaterial> prepare_materials(uint32_t count, const BounceMateri
   std::vector<BounceMaterial> out(materials, materials + count);
   for (BounceMaterial& m : out) {
     for (float& c : m.base_color) c = std::isfinite(c) ? std::clamp(c, 0.0f, 1.0f) : 0.0f;
-    for (float& c : m.emission) c = std::isfinite(c) ? std::max(c, 0.0f) : 0.0f;
+    for (float& c : m.emission) c = std::isfinite(c) ? std::clamp(c, 0.0f, kMaxIntensity) : 0.0f;
     m.alpha = std::isfinite(m.alpha) ? std::clamp(m.alpha, 0.0f, 1.0f) : 1.0f;
     m.alpha_threshold = std::isfinite(m.alpha_threshold) ? std::clamp(m.alpha_threshold, 0.0f, 1.0f) : 0.5f;
   }

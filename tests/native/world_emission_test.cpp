@@ -290,6 +290,38 @@ TEST_F(WorldAndEmission, BlackAndOneTexelWorlds) {
     }
 }
 
+// A Mapping with a 1e30 entry and a finite determinant (found by the scene fuzzer, seed 11 case 2550 and three
+// more) turned every view ray's environment direction into NaN: Combined was NaN wherever the world was seen, or
+// multiplied by a hidden world's zero. Bounce scales the mapping to a largest entry of 1; this one is then
+// singular, and the identity maps a 1 x 1 world as any mapping would.
+TEST_F(WorldAndEmission, HugeMappingEntriesLeaveTheWorldFinite) {
+  add_plane(1, 2.0f);
+  set_materials(0.0f);
+  set_instances_with({{1, 0}});
+  look_down(2.0f, 16);  // the plane fills the middle of the view, the world the border
+  settings_.samples = 16;
+  const float texel[4] = {0.5f, 0.25f, 1.0f, 1.0f};
+  ASSERT_BOUNCE_OK(bounce_texture_set(engine_, 7, 1, 1, BOUNCE_TEXTURE_RGBA32F, texel));
+  BounceWorld world{};
+  world.background[0] = world.background[1] = world.background[2] = 1.0f;
+  world.environment_texture = 7;
+  const float mapping[9] = {1, 0, 0, 1e30f, 1, 0, 0, 0, 1e30f};  // columns
+  std::memcpy(world.world_to_environment, mapping, sizeof mapping);
+  for (int hidden : {0, 1}) {
+    world.camera_hidden = hidden;
+    ASSERT_BOUNCE_OK(bounce_world_set(engine_, &world));
+    for (int method : kMethods) {
+      settings_.method = method;
+      const Image combined = render(BOUNCE_AOV_COMBINED);
+      BounceFrameInfo info{};
+      ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+      EXPECT_EQ(info.nonfinite_pixels, 0u) << "method " << method << ", world hidden " << hidden;
+      EXPECT_NEAR(combined.at(0, 0)[2], hidden ? 0.0 : 1.0, 1e-5) << "the world seen in the corner";
+      EXPECT_NEAR(combined.at(8, 8)[2], kAlbedo * 1.0, 0.05) << "the plane's centre: albedo x the sky's radiance";
+    }
+  }
+}
+
 TEST_F(WorldAndEmission, BillionStrengthAndZeroAreaEmittersStayBounded) {
   // The square emitter of the view-factor test at strength 1e9, plus an emissive mesh whose triangles have no
   // area (a repeated vertex, three collinear points): the plane receives exactly the square's light, scaled.

@@ -45,7 +45,7 @@ def main(out, paths):
             other = st.get("wall", bottom) - bottom
             if other > 0.0:
                 ax.bar(x, other, bottom=bottom, color=colours["other"], label="other")
-        ax.set_xticks(range(len(methods)), list(methods))
+        ax.set_xticks(range(len(methods)), list(methods), rotation=30, ha="right")
         ax.set_title(scene)
         ax.set_ylabel("ms per sample")
     handles = {}
@@ -53,7 +53,7 @@ def main(out, paths):
         for handle, label in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(label, handle)
     fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=4, fontsize="small")
-    fig.tight_layout(rect=(0, 0.18, 1, 1))
+    fig.tight_layout(rect=(0, 0.2, 1, 1))
     fig.savefig(out, dpi=110)
     print(f"scene_bench_plot: {out}")
 

@@ -174,10 +174,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   const auto slot_of = [&](std::size_t tile) { return tiles_take_turns ? 0 : static_cast<int>(tile); };
   auto read_tile = [&](Frame& into, std::size_t t, int samples_done, ComposePass::Into how) {
     StageScope scope(timer_, Stage::Readback);
-    const Tile& tile = tiles[t];
-    for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
-      if (into.holds(aov))
-        compose_.read(slot_of(t), aov, samples_done, into.aovs[aov].data(), into.width, tile.x - x0, tile.y - y0, how);
+    compose_.read(slot_of(t), samples_done, into, tiles[t].x - x0, tiles[t].y - y0, how);
   };
   auto read_frame = [&](Frame& into, int samples_done) {
     for (std::size_t t = 0; t < tiles.size(); ++t) read_tile(into, t, samples_done, ComposePass::Into::Replace);

@@ -53,6 +53,36 @@ void Readback::read(GLuint source, std::size_t bytes, void* out) {
   glGetNamedBufferSubData(staging_.id(), 0, static_cast<GLsizeiptr>(bytes), out);
 }
 
+const float* TextureReadback::read(const std::vector<Image>& images, int width, int height) {
+  release();
+  const std::size_t texels = std::size_t(width) * std::size_t(height);
+  std::size_t bytes = 0;
+  for (const Image& image : images) bytes += texels * std::size_t(image.components) * sizeof(float);
+  if (bytes == 0) return nullptr;
+  if (!buffer_ || bytes > capacity_) {
+    buffer_ = make_buffer(bytes, nullptr, GL_MAP_READ_BIT | GL_CLIENT_STORAGE_BIT);
+    capacity_ = bytes;
+  }
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, buffer_.id());
+  std::size_t offset = 0;
+  for (const Image& image : images) {
+    const std::size_t image_bytes = texels * std::size_t(image.components) * sizeof(float);
+    glGetTextureImage(image.texture, 0, image.components == 1 ? GL_RED : GL_RGBA, GL_FLOAT,
+                      static_cast<GLsizei>(image_bytes), reinterpret_cast<void*>(offset));
+    offset += image_bytes;
+  }
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  const void* mapped = glMapNamedBufferRange(buffer_.id(), 0, static_cast<GLsizeiptr>(bytes), GL_MAP_READ_BIT);
+  if (!mapped) fail(BOUNCE_ERROR_GL, "mapping " + std::to_string(bytes) + " bytes read back from the GPU failed");
+  mapped_ = true;
+  return static_cast<const float*>(mapped);
+}
+
+void TextureReadback::release() {
+  if (mapped_) glUnmapNamedBuffer(buffer_.id());
+  mapped_ = false;
+}
+
 Texture make_texture_2d(GLenum internal_format, int width, int height, int levels) {
   if (fault_injected("gl-oom"))
     fail_out_of_gpu_memory("allocating a " + std::to_string(width) + "x" + std::to_string(height) + " texture");

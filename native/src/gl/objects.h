@@ -71,6 +71,26 @@ class Readback {
   std::size_t capacity_ = 0;
 };
 
+// Reads several float textures of one size back at once: every read is queued into a pixel-pack buffer of its
+// own before the host waits, so it waits for the GPU once instead of once a texture, and reads the texels where
+// the driver put them (mapped) instead of copying each image into memory of its own.
+class TextureReadback {
+ public:
+  struct Image {
+    GLuint texture;
+    int components;  // 4: read as GL_RGBA, 1: as GL_RED; floats either way
+  };
+  // The texels of `images` (each width x height), one image after another, rows bottom first; valid until
+  // release() or the next read().
+  const float* read(const std::vector<Image>& images, int width, int height);
+  void release();
+
+ private:
+  Buffer buffer_;
+  std::size_t capacity_ = 0;
+  bool mapped_ = false;
+};
+
 Texture make_texture_2d(GLenum internal_format, int width, int height, int levels = 1);
 Texture make_texture_cube(GLenum internal_format, int size);
 Framebuffer make_framebuffer(const std::vector<GLuint>& colour, GLuint depth, int layer = -1);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "common/parallel.h"
 #include "gl/shader.h"
 
 namespace bounce {
@@ -78,28 +79,37 @@ void ComposePass::accumulate(int slot, const RenderContext& context, const GBuff
   glDisable(GL_BLEND);
 }
 
-void ComposePass::read(int slot, int aov, int samples, float* frame, int frame_width, int x, int y, Into into) const {
+void ComposePass::read(int slot, int samples, Frame& frame, int x, int y, Into into) {
   const Targets& targets = slots_.at(std::size_t(slot));
-  const int channels = bounce_aov_channels(aov);
-  const bool depth = aov == BOUNCE_AOV_DEPTH;
-  scratch_.resize(std::size_t(targets.width) * targets.height * (depth ? 1 : 4));
-  glGetTextureImage(targets.textures[aov].id(), 0, depth ? GL_RED : GL_RGBA, GL_FLOAT,
-                    static_cast<GLsizei>(scratch_.size() * sizeof(float)), scratch_.data());
-  const float scale = depth ? 1.0f : 1.0f / static_cast<float>(samples);
-  const int stride = depth ? 1 : 4;
-  for (int row = 0; row < targets.height; ++row) {
-    for (int col = 0; col < targets.width; ++col) {
-      const float* src = scratch_.data() + (std::size_t(row) * targets.width + col) * stride;
-      float* dst = frame + ((std::size_t(y) + row) * frame_width + x + col) * channels;
-      for (int c = 0; c < channels; ++c) {
-        const float value = src[c] * scale;
-        if (into == Into::Replace)
-          dst[c] = value;
-        else
-          dst[c] = depth ? std::min(dst[c], value) : dst[c] + value;
-      }
+  std::vector<gl::TextureReadback::Image> images;
+  std::vector<int> aovs;
+  for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
+    if (frame.holds(aov)) {
+      images.push_back({targets.textures[aov].id(), aov == BOUNCE_AOV_DEPTH ? 1 : 4});
+      aovs.push_back(aov);
     }
-  }
+  const float* texels = readback_.read(images, targets.width, targets.height);
+  const std::size_t pixels = std::size_t(targets.width) * std::size_t(targets.height);
+  const float scale = 1.0f / static_cast<float>(samples);
+  parallel_for(std::size_t(targets.height), 0, 16, [&](std::size_t row) {
+    const float* image = texels;
+    for (std::size_t a = 0; a < aovs.size(); ++a) {
+      const int aov = aovs[a], channels = bounce_aov_channels(aov), stride = images[a].components;
+      const bool depth = aov == BOUNCE_AOV_DEPTH;
+      const float* src = image + row * std::size_t(targets.width) * stride;
+      float* dst = frame.aovs[aov].data() + ((std::size_t(y) + row) * frame.width + x) * channels;
+      for (int col = 0; col < targets.width; ++col, src += stride, dst += channels)
+        for (int c = 0; c < channels; ++c) {
+          const float value = depth ? src[c] : src[c] * scale;
+          if (into == Into::Replace)
+            dst[c] = value;
+          else
+            dst[c] = depth ? std::min(dst[c], value) : dst[c] + value;
+        }
+      image += pixels * stride;
+    }
+  });
+  readback_.release();
 }
 
 }  // namespace bounce

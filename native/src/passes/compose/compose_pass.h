@@ -5,6 +5,7 @@
 #include <array>
 #include <vector>
 
+#include "frame.h"
 #include "gl/objects.h"
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/render_context.h"
@@ -28,13 +29,11 @@ class ComposePass {
   };
   void accumulate(int slot, const RenderContext& context, const GBuffer& gbuffer, GLuint direct,
                   const Indirect& indirect);
-  // Replace: averages `samples` accumulated samples of AOV `aov` into dst (width * height * channels floats) at
-  // the pixel offset (x, y) of a frame `frame_width` wide. Add: the targets hold one sample of `samples`, added
-  // to what the frame holds (Depth: the nearest), for tiles that take turns with the targets.
-  // Frame::zero_nonfinite then clears what is not finite.
+  // Replace: averages `samples` accumulated samples of every AOV `frame` holds into it at the pixel offset (x, y).
+  // Add: the targets hold one sample of `samples`, added to what the frame holds (Depth: the nearest), for tiles
+  // that take turns with the targets. Frame::zero_nonfinite then clears what is not finite.
   enum class Into { Replace, Add };
-  void read(int slot, int aov, int samples, float* frame, int frame_width, int x, int y,
-            Into into = Into::Replace) const;
+  void read(int slot, int samples, Frame& frame, int x, int y, Into into = Into::Replace);
 
  private:
   static constexpr int kComposedAovs = 8;  // written by compose.frag at once (GL guarantees 8 draw buffers)
@@ -46,7 +45,7 @@ class ComposePass {
 
   gl::Program program_, add_times_albedo_;
   std::vector<Targets> slots_;
-  mutable std::vector<float> scratch_;
+  gl::TextureReadback readback_;
 };
 
 }  // namespace bounce

@@ -1,9 +1,10 @@
 // Direct diffuse light with Embree shadow rays instead of shadow maps (Shadows > Method: Ray Traced). The
-// G-buffer's positions, normals and albedo are read back, each pixel is lit on the CPU by cpu/direct_light (the
-// light model of shaders/common/lights.glsl, with the visible fraction of each light from one jittered shadow ray
-// per light and sample, through alpha cut-outs), and albedo / pi * E is uploaded as the sample's direct light.
-// Shadow maps blur and shift shadow edges by a texel (sunlit stripes through blinds came out a pixel too wide)
-// and leak through thin closed walls; rays do neither. No shaders: the pass runs on the CPU threads.
+// G-buffer's positions, normals and albedo are read back together (one wait for the GPU), each pixel is lit on
+// the CPU by cpu/direct_light (the light model of shaders/common/lights.glsl, with the visible fraction of each
+// light from one jittered shadow ray per light and sample, through alpha cut-outs), and albedo / pi * E is
+// uploaded as the sample's direct light. Shadow maps blur and shift shadow edges by a texel (sunlit stripes
+// through blinds came out a pixel too wide) and leak through thin closed walls; rays do neither. No shaders: the
+// pass runs on the CPU threads.
 #pragma once
 
 #include <vector>
@@ -28,7 +29,8 @@ class TracedDirectPass {
  private:
   gl::Texture direct_;
   int width_ = 0, height_ = 0;
-  std::vector<glm::vec4> position_, normal_, albedo_, light_;
+  gl::TextureReadback gbuffer_readback_;
+  std::vector<glm::vec4> light_;
 };
 
 }  // namespace bounce

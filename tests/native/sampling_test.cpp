@@ -1,8 +1,10 @@
-// Sample sequences: centred first samples, uniformity, and light sample points inside the light.
+// Sample sequences: centred first samples, uniformity, light sample points inside the light, and the resampling
+// of candidate VPLs by importance.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "cpu/vpls.h"
 #include "passes/shadows/shadow_pass.h"
 #include "renderer.h"
 #include "sampling.h"
@@ -64,6 +66,30 @@ TEST(Sampling, LightSamplePointsLieOnTheLight) {
     EXPECT_NEAR(glm::length(d), 1.0f, 1e-5f);
     EXPECT_GE(d.z, std::cos(0.05f) - 1e-6f);
   }
+}
+
+// Found by the scene fuzzer (seed 21, case 3338: 555 NaN pixels in SSVP): with u near 1, next + u rounded up to
+// `count` in float, so the last draw passed every candidate and took the last one, whose importance was 0: an
+// infinite weight. Every draw must land on a candidate that can be drawn, with a finite weight, and the weights
+// must still add up to the candidates' count (the estimate stays unbiased).
+TEST(Resample, LargestOffsetDrawsOnlyDrawableCandidates) {
+  std::vector<float> importance(128, 0.0f);
+  for (std::size_t i = 0; i < 39; ++i) importance[i * 3] = 1e-11f * float(1 + i % 7);
+  const float largest_u = 1.0f - 1.0f / 16777216.0f;  // hash_to_unit's largest value
+  for (int count : {256, 2048, 16384})
+    for (float share : {0.0f, 0.1f})
+      for (float u : {0.0f, 0.5f, 0.999994874f, largest_u}) {
+        double weight_of_drawable = 0.0;
+        for (const cpu::Draw& draw : cpu::resample(importance, count, share, u)) {
+          ASSERT_LT(draw.index, importance.size());
+          ASSERT_TRUE(std::isfinite(draw.weight)) << "count " << count << ", u " << u << ", share " << share;
+          ASSERT_TRUE(share > 0.0f || importance[draw.index] > 0.0f) << "a draw of a candidate of no importance";
+          weight_of_drawable += draw.weight;
+        }
+        // Each draw weighs 1 / (count p): summed, about the number of candidates that can be drawn.
+        EXPECT_NEAR(weight_of_drawable, share > 0.0f ? 128.0 : 39.0, share > 0.0f ? 128.0 * 0.5 : 39.0 * 0.5)
+            << "count " << count << ", u " << u;
+      }
 }
 
 TEST(TileMatrix, MapsTheTileOntoTheWholeClipSquare) {

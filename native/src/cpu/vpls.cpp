@@ -144,14 +144,20 @@ std::vector<Draw> resample(std::span<const float> importance, int count, float u
   const auto probability = [&](std::size_t i) {
     return (1.0 - share) * (total > 0.0 ? valid(i) / total : 0.0) + share / double(m);
   };
+  std::size_t last_drawable = m - 1;
+  while (last_drawable > 0 && !(probability(last_drawable) > 0.0)) --last_drawable;
   std::vector<Draw> draws;
   draws.reserve(std::size_t(count));
   double cumulative = 0.0;
   std::size_t i = 0;
   for (int next = 0; next < count; ++next) {
-    // The last candidate takes what rounding leaves of the cumulative sum short of `count`.
-    while (i + 1 < m && cumulative + probability(i) * count <= next + u) cumulative += probability(i++) * count;
-    draws.push_back({i, float(1.0 / (double(count) * probability(i)))});
+    // In double: in float, next + u rounds up to next + 1 for u near 1 (255 + 0.999995 is 256), which carried the
+    // last draw past every candidate, onto one that may have no probability (an infinite weight: NaN pixels).
+    const double target = double(next) + double(u);
+    while (i + 1 < m && cumulative + probability(i) * count <= target) cumulative += probability(i++) * count;
+    // What rounding leaves of the cumulative sum short of `count` goes to the last candidate that can be drawn.
+    const std::size_t drawn = std::min(i, last_drawable);
+    draws.push_back({drawn, float(1.0 / (double(count) * probability(drawn)))});
   }
   return draws;
 }

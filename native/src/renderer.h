@@ -67,7 +67,7 @@ class Renderer {
   DirectPass direct_;
   TracedDirectPass traced_direct_;
   FlcPass flc_;
-  cpu::TopologyCache flc_topologies_;  // Forward Light Cuts' Indirect Shadows
+  cpu::TopologyCache flc_topologies_{true};  // Forward Light Cuts' Indirect Shadows
   TopologyVisibilityPass topology_visibility_;
   SsvpPass ssvp_;
   ComposePass compose_;

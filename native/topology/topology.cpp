@@ -73,9 +73,10 @@ std::string Topology::summary() const {
                 grid.shape.dims.y, grid.shape.dims.z, grid.shape.voxel_size, grid.empty_count());
   s += line;
   std::snprintf(line, sizeof line,
-                "skeleton %zu voxels (%zu pruned), %zu nodes, %zu edges; segmented %zu nodes; %u clusters, %zu gates\n",
+                "skeleton %zu voxels (%zu pruned), %zu nodes, %zu edges; segmented %zu nodes; %u clusters, %zu gates, "
+                "%zu passages\n",
                 skeleton.voxels, skeleton.pruned_voxels, skeleton.graph.node_count(), skeleton.graph.edge_count(),
-                segmented.original.size(), cluster_count, gates.size());
+                segmented.original.size(), cluster_count, gates.size(), passages.count());
   s += line;
   for (size_t i = 0; i < stage_ms.size(); ++i) {
     std::snprintf(line, sizeof line, "  %-20s %9.1f ms\n", build_stage_name(BuildStage(i)), stage_ms[i]);
@@ -84,7 +85,8 @@ std::string Topology::summary() const {
   return s;
 }
 
-Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress) {
+Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress,
+               const SegmentClear& clear) {
   Topology t;
   // Rough shares of the total time per stage, for the progress bar.
   constexpr float kStart[] = {0.0f, 0.1f, 0.2f, 0.9f, 0.95f, 0.98f, 1.0f};
@@ -120,6 +122,8 @@ Topology build(std::span<const glm::vec3> soup, const Settings& settings, const 
   for (std::size_t i = 0; i < voxel_cluster.size(); ++i) voxel_cluster[i] = t.cluster_of_node(t.skeleton.voxel_node[i]);
   fit_gates_to_boundaries(t.grid, voxel_cluster, t.gates);
   add_boundary_gates(t.grid.shape, voxel_cluster, t.gates);
+  t.component = gate_components(t.cluster_count, t.gates);
+  t.passages = estimate_passages(t, soup, clear, cancelled);
   begin(BuildStage::Count);
   return t;
 }

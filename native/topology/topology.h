@@ -12,6 +12,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "passages.h"
 #include "segmentation.h"
 #include "skeleton.h"
 #include "voxel_grid.h"
@@ -40,6 +41,10 @@ struct Topology {
   std::vector<uint32_t> cluster_of;  // per segmented node
   uint32_t cluster_count = 0;
   std::vector<Gate> gates;
+  std::vector<uint32_t> component;  // per cluster: its component of the graph the gates make (gate_components)
+  // Between clusters in different components: the light that passes through openings narrower than a voxel
+  // (estimate_passages; passages.h). Empty when not estimated.
+  Passages passages;
   std::vector<uint32_t> node_cluster;  // per original skeleton node (node_clusters)
   std::array<double, size_t(BuildStage::Count)> stage_ms{};
 
@@ -59,12 +64,16 @@ struct Topology {
   // The visibility cluster of that node, kNoNode likewise.
   uint32_t cluster_at(glm::vec3 p, glm::vec3 n, Side side = Side::Either, const Reachable& reachable = {}) const;
   uint32_t cluster_of_node(uint32_t node) const { return node == kNoNode ? kNoNode : node_cluster[node]; }
+  // Whether the gates join two clusters (both in the grid).
+  bool joined(uint32_t a, uint32_t b) const { return component[a] == component[b]; }
   // Stage times and counts, one line each.
   std::string summary() const;
 };
 
 // The whole precomputation for the triangle soup (vertices 3i, 3i + 1, 3i + 2), in world space. Settings out of
-// range are clamped (resolution to [1, kMaxResolution], alpha to [0, 1]). Throws Cancelled.
-Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress = {});
+// range are clamped (resolution to [1, kMaxResolution], alpha to [0, 1]). With `clear` (a ray tracer's occlusion
+// test), the passages too, in the Gates stage. Throws Cancelled.
+Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress = {},
+               const SegmentClear& clear = {});
 
 }  // namespace bounce::topology

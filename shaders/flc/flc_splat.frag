@@ -1,6 +1,7 @@
 // Splatting, fragment stage: the VPL's contribution H(t_i, x, n_x) F^k(t_i, x) to the receiver of this pixel
-// (Eq. 5, 6, 10, 14, 16), added into the interleaved indirect target; with Indirect Shadows, only where the
-// topology's clusters and gates let the VPL reach the pixel; never across an emitter (emitter_occluders.glsl).
+// (Eq. 5, 6, 10, 14, 16), added into the interleaved indirect target; with Indirect Shadows, as much as the
+// topology's clusters, gates and passages let the VPL reach the pixel; never across an emitter
+// (emitter_occluders.glsl).
 #include "common/emitter_occluders.glsl"
 #include "flc/flc_common.glsl"
 #include "topology_visibility/visibility.glsl"
@@ -43,11 +44,12 @@ void main() {
   float cos_receiver = -dot(texelFetch(g_normal, pixel, 0).xyz, direction);
   if (cos_receiver <= 0.0) discard;
   if (emitter_between(s_vpl_position, x, 1e-4 * flc.scene_radius)) discard;
-  if (flc.visibility != 0 &&
-      !topology_reaches(s_cluster, s_vpl_position, texelFetch(pixel_clusters, pixel, 0).r, x))
-    discard;
+  float visibility =
+      flc.visibility != 0 ? topology_visibility(s_cluster, s_vpl_position, texelFetch(pixel_clusters, pixel, 0).r, x)
+                          : 1.0;
+  if (visibility == 0.0) discard;
   float clamped = max(flc.epsilon, distance);
   // L(t_i, y_i x) = rho_i E 3/(2 pi) <n_i, y_i x>+ (Eq. 6); H = L rho_x <n_x, x y_i>+ <n_i, y_i x>+ / (pi d^2).
   vec3 h = s_radiance_factor * cos_emitter * albedo.rgb * cos_receiver * cos_emitter / (FLC_PI * clamped * clamped);
-  out_indirect = vec4(h * f, 0.0);
+  out_indirect = vec4(h * (f * visibility), 0.0);
 }

@@ -3,6 +3,7 @@
 // light at p in cluster A reaches x in cluster B when A == B, or when the segment p-x crosses gates from A to B
 // inside their rectangles (Fig. 11). Mirrors cpu::TopologyRenderer's rule.
 #include "topology_visibility/gates_shared.glsl"
+#include "topology_visibility/passages_shared.glsl"
 
 const uint TOPOLOGY_NO_CLUSTER = 0xFFFFFFFFu;
 
@@ -24,6 +25,29 @@ struct TopologyGate {
 layout(std430, binding = 10) readonly buffer TopologyGates { TopologyGate topology_gates[]; };
 // [2 c], [2 c + 1]: the first index and the count of cluster c's gates in the rest of the array.
 layout(std430, binding = 11) readonly buffer TopologyClusterGates { uint topology_cluster_gates[]; };
+// The passages between clusters no chain of gates joins (topology::Passages; native/topology/passages.h): first,
+// per pair of clusters [a * cluster count + b], 0 or 1 + the index of its passage; then per passage, as float
+// bits, its rectangle (centre and half extent along u, normal and half extent along cross(normal, u), u) and the
+// share of the light that passes by the bin of the direction from the pair's lower cluster to its higher. A single
+// 0 when there are none.
+layout(std430, binding = 13) readonly buffer TopologyPassages { uint topology_passages[]; };
+
+float topology_passage(uint from, vec3 p, uint to, vec3 x) {
+  if (topology_passages.length() < 2) return 0.0;
+  uint count = uint(topology_grid.dims.w);
+  uint index = topology_passages[from * count + to];
+  if (index == 0u) return 0.0;
+  uint bins = uint(TOPOLOGY_PASSAGE_BINS_PER_SIDE * TOPOLOGY_PASSAGE_BINS_PER_SIDE);
+  uint base = count * count + (index - 1u) * (12u + bins);
+  vec4 rectangle[3];
+  for (uint i = 0u; i < 3u; ++i)
+    rectangle[i] = uintBitsToFloat(uvec4(topology_passages[base + 4u * i], topology_passages[base + 4u * i + 1u],
+                                         topology_passages[base + 4u * i + 2u], topology_passages[base + 4u * i + 3u]));
+  if (!in_gate_cone(p, rectangle[0].xyz, rectangle[1].xyz, rectangle[2].xyz, rectangle[0].w, rectangle[1].w, x))
+    return 0.0;
+  int bin = topology_passage_bin(normalize(from < to ? x - p : p - x));
+  return uintBitsToFloat(topology_passages[base + 12u + uint(bin)]);
+}
 
 uint topology_cluster_in(ivec3 cell) {
   if (any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, topology_grid.dims.xyz))) return TOPOLOGY_NO_CLUSTER;
@@ -61,13 +85,17 @@ uint topology_cluster_at(vec3 p, vec3 n) {
   return nearest;
 }
 
-// Whether a light at p in cluster `from` lights x in cluster `to`, as on the CPU (cpu::reaches): a light without a
-// cluster is walled in and lights nothing; a receiver without one has no visibility information and takes every
-// light; otherwise the segment p-x must cross a chain of gates from `from` to `to`, each inside its rectangle,
-// found by a breadth-first walk through at most TOPOLOGY_WALK_CLUSTERS clusters.
-bool topology_reaches(uint from, vec3 p, uint to, vec3 x) {
-  if (from == TOPOLOGY_NO_CLUSTER) return false;
-  if (to == TOPOLOGY_NO_CLUSTER || from == to) return true;
+// How much of a light at p in cluster `from` reaches x in cluster `to`, as on the CPU (cpu::reaches): a light
+// without a cluster is walled in and lights nothing; a receiver without one has no visibility information and
+// takes every light; clusters no chain of gates joins pass their passage's share in the direction p-x where the
+// segment crosses its rectangle; otherwise all when the segment
+// p-x crosses a chain of gates from `from` to `to`, each inside its rectangle, found by a breadth-first walk
+// through at most TOPOLOGY_WALK_CLUSTERS clusters, and none when it does not.
+float topology_visibility(uint from, vec3 p, uint to, vec3 x) {
+  if (from == TOPOLOGY_NO_CLUSTER) return 0.0;
+  if (to == TOPOLOGY_NO_CLUSTER || from == to) return 1.0;
+  float passage = topology_passage(from, p, to, x);
+  if (passage > 0.0) return passage;
   uint walk[TOPOLOGY_WALK_CLUSTERS];
   walk[0] = from;
   uint walked = 1u;
@@ -82,9 +110,9 @@ bool topology_reaches(uint from, vec3 p, uint to, vec3 x) {
       if (visited || !in_gate_cone(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, gate.axis_u.xyz,
                                    gate.centre_half_u.w, gate.normal_half_v.w, x))
         continue;
-      if (beyond == to) return true;
+      if (beyond == to) return 1.0;
       if (walked < uint(TOPOLOGY_WALK_CLUSTERS)) walk[walked++] = beyond;
     }
   }
-  return false;
+  return 0.0;
 }

@@ -280,6 +280,40 @@ TEST_F(FlcIndirectShadows, SolidWallKeepsTheOtherRoomDark) {
   EXPECT_LT(shadowed, 1e-3 * lit);
 }
 
+// Light through a grille whose gaps the grid closes: the rooms are clusters no chain of gates joins, and the
+// passage between them (native/topology/passages.h) carries room A's first bounce into room B. A spot light
+// shines down in room A, so that no direct light crosses the grille and all of room B's indirect light comes from
+// room A. The share of it the grille lets through, over what the same opening without fins lets through, matches
+// the Topology method's with a shadow ray per VPL (ratios, so that each method's own first-bounce bias cancels).
+// By the gates alone the share was 0.
+TEST_F(FlcIndirectShadows, GrillePassesTheShareOfLightItsGapsLetThrough) {
+  const auto room_b = [&](bool fins, int method) {
+    add_soup(1, two_rooms_with_grille(fins).vertices);
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(0.8f);
+    BounceLight spot = make_light(BOUNCE_LIGHT_SPOT, {4.0f, 5.0f, 3.5f}, glm::vec3(2000.0f));
+    spot.spot_half_angle = 0.4f;
+    set_lights({spot});
+    // From the grille toward room B's far wall: the camera sees nothing of room A.
+    set_camera(glm::lookAt(glm::vec3(10.5f, 5.0f, 2.0f), glm::vec3(20.0f, 5.0f, 1.0f), glm::vec3(0, 0, 1)),
+               glm::perspective(glm::radians(70.0f), 2.0f, 0.05f, 100.0f), 64, 32);
+    settings_.method = method;
+    settings_.flc_visibility = 1;
+    settings_.topology_visibility = 1;  // shadow rays
+    settings_.topology_vpls = 1024;
+    settings_.bounces = 1;
+    settings_.samples = 8;
+    return mean_red(render(BOUNCE_AOV_INDIRECT));
+  };
+  const double traced = room_b(true, BOUNCE_METHOD_TOPOLOGY) / room_b(false, BOUNCE_METHOD_TOPOLOGY);
+  const double passed = room_b(true, BOUNCE_METHOD_FLC) / room_b(false, BOUNCE_METHOD_FLC);
+  std::printf(
+      "room B's light through the grille over the open opening: %.3f with Indirect Shadows, %.3f by shadow "
+      "rays\n",
+      passed, traced);
+  EXPECT_NEAR(passed, traced, 0.3 * traced);
+}
+
 TEST_F(FlcIndirectShadows, DoorwayLetsLightThrough) {
   const double lit = mean_indirect(two_rooms(), kInA, kWall, 1);
   const double through_door = mean_indirect(two_rooms(), kInB, kWall, 1);

@@ -71,6 +71,24 @@ inline Soup two_closed_rooms() {
   return s;
 }
 
+// The same two rooms with the doorway widened to 4 x 3 and, with `fins`, filled with a grille of vertical fins 0.2
+// deep every 0.1 (y = 3.05 ... 6.95): light passes between the fins where it travels within 27 degrees of the x
+// axis, but the gaps are narrower than a voxel of the default grid (about 0.16), which closes them: no gate joins
+// the rooms. The floor is in 1 x 1 tiles, so that Forward Light Cuts' VPLs resolve a small lit spot on it.
+inline Soup two_rooms_with_grille(bool fins = true) {
+  Soup s;
+  s.box({0, 0, 0}, {20, 10, 4});
+  s.vertices.erase(s.vertices.begin() + 24, s.vertices.begin() + 30);  // the floor (z = 0), again in 1 x 1 tiles
+  for (int x = 0; x < 20; ++x)
+    for (int y = 0; y < 10; ++y) s.quad({float(x), float(y), 0.0f}, {float(x + 1), float(y + 1), 0.0f}, 2);
+  s.wall_with_opening(0, 10.0f, {0, 0, 0}, {0, 10, 4}, {10.0f, 3.0f, 0.0f}, {10.0f, 7.0f, 3.0f});
+  for (int fin = 0; fin < (fins ? 40 : 0); ++fin) {
+    const float y = 3.05f + 0.1f * float(fin);
+    s.quad({9.9f, y, 0.0f}, {10.1f, y, 3.0f}, 1);
+  }
+  return s;
+}
+
 // A closed 6 x 4 x 3 room with a window 2 wide and 1.2 high in its wall y = 0, on a 40 x 40 ground: a sun outside
 // shines in through the window, and most of what is inside is lit indirectly.
 inline constexpr glm::vec3 kWindowLo{2.0f, 0.0f, 1.0f}, kWindowHi{4.0f, 0.0f, 2.2f};

@@ -44,7 +44,7 @@ std::shared_ptr<const topology::Topology> TopologyCache::get(const CpuScene& sce
   uint64_t key = mix(scene.geometry_hash() ^ mix(uint64_t(settings.topology_resolution)));
   uint32_t alpha_bits = 0;
   std::memcpy(&alpha_bits, &settings.topology_alpha, sizeof alpha_bits);
-  key = mix(key ^ alpha_bits);
+  key = mix(mix(key ^ alpha_bits) ^ uint64_t(with_passages_));
   if (topology_ && key == key_) return topology_;
   if (auto found = cached(key)) {
     topology_ = std::move(found);
@@ -56,12 +56,16 @@ std::shared_ptr<const topology::Topology> TopologyCache::get(const CpuScene& sce
   topology_settings.alpha = settings.topology_alpha;
   std::string stage_text;
   try {
-    topology_ = std::make_shared<topology::Topology>(
-        topology::build(scene.soup(), topology_settings, [&](topology::BuildStage stage, float fraction) {
+    topology_ = std::make_shared<topology::Topology>(topology::build(
+        scene.soup(), topology_settings,
+        [&](topology::BuildStage stage, float fraction) {
           stage_text = std::string("Topology: ") + topology::build_stage_name(stage);
           callbacks.status(stage_text.c_str(), 0.5f * fraction);
           return !callbacks.cancelled();
-        }));
+        },
+        with_passages_
+            ? topology::SegmentClear([&scene](glm::vec3 from, glm::vec3 to) { return scene.clear_between(from, to); })
+            : topology::SegmentClear{}));
     ++builds;
   } catch (const topology::Cancelled&) {
     topology_ = nullptr;

@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <unordered_map>
 #include <utility>
 
@@ -57,35 +56,25 @@ bool in_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 x) {
 
 }  // namespace
 
-// The clusters' gates, and the component of the graph they make that each cluster is in: light from one cluster
-// reaches another through gates only within its component.
+// Each cluster's gates; light from one cluster reaches another through gates only within its component
+// (Topology::joined).
 struct ClusterGraph {
   std::vector<std::vector<uint32_t>> gates_of;  // per cluster
-  std::vector<uint32_t> component;              // per cluster
+  const topology::Topology& topology;
 
-  explicit ClusterGraph(const topology::Topology& topo) : gates_of(topo.cluster_count), component(topo.cluster_count) {
+  explicit ClusterGraph(const topology::Topology& topo) : gates_of(topo.cluster_count), topology(topo) {
     for (std::size_t g = 0; g < topo.gates.size(); ++g)
       for (uint32_t c : topo.gates[g].clusters)
         if (c < topo.cluster_count) gates_of[c].push_back(uint32_t(g));
-    std::iota(component.begin(), component.end(), 0u);
-    const auto root = [&](uint32_t c) {
-      while (component[c] != c) c = component[c] = component[component[c]];
-      return c;
-    };
-    for (const topology::Gate& gate : topo.gates)
-      if (gate.clusters[0] < topo.cluster_count && gate.clusters[1] < topo.cluster_count)
-        component[root(gate.clusters[0])] = root(gate.clusters[1]);
-    for (uint32_t c = 0; c < topo.cluster_count; ++c) component[c] = root(c);
   }
-  // Whether the gates join the two clusters (both in the grid).
-  bool joined(uint32_t a, uint32_t b) const { return component[a] == component[b]; }
+  bool joined(uint32_t a, uint32_t b) const { return topology.joined(a, b); }
 };
 
 namespace {
 
 // Whether the method lets a VPL at p in cluster `from` light x in cluster `to`: its own cluster without a test,
 // another when the segment p-x crosses a chain of gates from `from` to `to`, each inside its rectangle (Fig. 11
-// for one gate), found by a breadth-first walk as topology_reaches (shaders/topology_visibility/visibility.glsl)
+// for one gate), found by a breadth-first walk as topology_visibility (shaders/topology_visibility/visibility.glsl)
 // does: the paper's single gate test let light through any of the cluster's gates, toward any cluster. A view
 // sample outside every cluster has no visibility information and counts every light here (the shading casts it
 // a shadow ray).

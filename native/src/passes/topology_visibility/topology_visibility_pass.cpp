@@ -1,5 +1,7 @@
 #include "passes/topology_visibility/topology_visibility_pass.h"
 
+#include <array>
+#include <bit>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -13,6 +15,7 @@ namespace {
 constexpr GLuint kGridBlock = 6;
 constexpr GLuint kGatesBinding = 10;
 constexpr GLuint kClusterGatesBinding = 11;
+constexpr GLuint kPassagesBinding = 13;
 constexpr GLuint kClustersUnit = 20;
 
 struct GridBlock {  // std140 mirror of visibility.glsl's TopologyGrid
@@ -73,8 +76,21 @@ void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topol
   // GL buffers may not be empty.
   if (gates.empty()) gates.push_back({});
   if (table.empty()) table.push_back(0);
+  // The slots, then per passage its rectangle (as a GpuGate's first three vectors) and its shares, as float bits;
+  // one 0 stands for none (visibility.glsl).
+  std::vector<uint32_t> passages = topology->passages.slot;
+  for (const topology::Passage& passage : topology->passages.passages) {
+    const topology::Gate& gate = passage.gate;
+    const std::array<float, 12> rectangle{gate.centre.x, gate.centre.y, gate.centre.z, gate.half_u,
+                                          gate.normal.x, gate.normal.y, gate.normal.z, gate.half_v,
+                                          gate.axis_u.x, gate.axis_u.y, gate.axis_u.z, 0.0f};
+    for (const float value : rectangle) passages.push_back(std::bit_cast<uint32_t>(value));
+    for (const float share : passage.share) passages.push_back(std::bit_cast<uint32_t>(share));
+  }
+  if (passages.size() < 2) passages.assign(1, 0u);
   gates_ = gl::make_buffer(gates.size() * sizeof(GpuGate), gates.data());
   cluster_gates_ = gl::make_buffer(table.size() * sizeof(uint32_t), table.data());
+  passages_ = gl::make_buffer(passages.size() * sizeof(uint32_t), passages.data());
   gl::check("uploading the topology's visibility");
 }
 
@@ -99,6 +115,7 @@ void TopologyVisibilityPass::bind() const {
   glBindBufferBase(GL_UNIFORM_BUFFER, kGridBlock, grid_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGatesBinding, gates_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kClusterGatesBinding, cluster_gates_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPassagesBinding, passages_.id());
   glBindTextureUnit(kClustersUnit, clusters_.id());
   glBindTextureUnit(kPixelClustersUnit, pixel_clusters_.id());
 }

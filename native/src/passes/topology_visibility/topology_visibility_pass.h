@@ -1,7 +1,8 @@
 // The topology method's indirect visibility on the GPU, for other methods' VPLs (Forward Light Cuts > Indirect
 // Shadows: a hybrid of Laurent et al. 2016 and Noel and Biri 2014). Shaders: shaders/topology_visibility/.
 //   prepare  - when the topology changes: every grid cell's visibility cluster (its nearest skeleton node's,
-//              Sec. IV.B) into a 3-D texture, the gates (Sec. IV.C) and each cluster's gate list into buffers.
+//              Sec. IV.B) into a 3-D texture, the gates (Sec. IV.C), each cluster's gate list and the passages
+//              between clusters no gates join (native/topology/passages.h) into buffers.
 //   execute  - per sample: each pixel's cluster from the G-buffer (pixel_clusters.frag), for the shaders that
 //              include visibility.glsl; bind() makes the grid, the gates and that image visible to them.
 #pragma once
@@ -20,7 +21,7 @@ class TopologyVisibilityPass {
   TopologyVisibilityPass();
   void prepare(const std::shared_ptr<const topology::Topology>& topology);
   void execute(const RenderContext& context, const GBuffer& gbuffer);
-  void bind() const;  // the grid, the gates and the pixel clusters, at visibility.glsl's bindings
+  void bind() const;  // the grid, the gates, the passages and the pixel clusters, at visibility.glsl's bindings
   static constexpr GLuint kPixelClustersUnit = 21;
 
  private:
@@ -28,7 +29,7 @@ class TopologyVisibilityPass {
   std::shared_ptr<const topology::Topology> topology_;
   gl::Texture clusters_, pixel_clusters_;
   gl::Framebuffer target_;
-  gl::Buffer grid_, gates_, cluster_gates_;
+  gl::Buffer grid_, gates_, cluster_gates_, passages_;
   int width_ = 0, height_ = 0;
 };
 

@@ -1,0 +1,260 @@
+#include "passages.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <mutex>
+#include <numeric>
+#include <optional>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
+#include "common/parallel.h"
+#include "topology.h"
+
+namespace bounce::topology {
+namespace shared {
+using glm::abs;
+using glm::cross;
+using glm::dot;
+using glm::vec3;
+using std::min;
+#define PASSAGES_INLINE inline
+#include "topology_visibility/passages_shared.glsl"
+#undef PASSAGES_INLINE
+#define GATES_INLINE inline
+#include "topology_visibility/gates_shared.glsl"
+#undef GATES_INLINE
+}  // namespace shared
+namespace {
+
+static_assert(kPassageBins == TOPOLOGY_PASSAGE_BINS_PER_SIDE * TOPOLOGY_PASSAGE_BINS_PER_SIDE);
+constexpr int kSurfaceSamples = 1 << 16;  // points drawn on the surfaces, by area; each counts on both sides
+constexpr int kProbeDraws = 128;          // point pairs that find whether anything passes between two clusters
+constexpr int kDraws = 4096;              // point pairs of a pair of clusters that pass light, over the bins
+
+// SplitMix64: a fixed stream per purpose, so that the table is the same on every build of a geometry.
+struct Draws {
+  uint64_t state;
+  uint64_t next() {
+    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
+  std::size_t below(std::size_t n) { return std::size_t(uniform() * double(n)) % n; }
+};
+
+struct SurfacePoint {
+  glm::vec3 position, normal;  // normal: toward the side whose cluster holds the point
+};
+
+// Points on the surfaces by area, each with the cluster of either side (Topology::cluster_at, Side::Front).
+// Each point lifted off its surface by `lift`.
+std::vector<std::vector<SurfacePoint>> points_by_cluster(const Topology& topology, std::span<const glm::vec3> soup,
+                                                         const SegmentClear& clear, float lift) {
+  std::vector<std::vector<SurfacePoint>> by_cluster(topology.cluster_count);
+  std::vector<double> cumulative_area;
+  cumulative_area.reserve(soup.size() / 3);
+  double area = 0.0;
+  for (std::size_t i = 0; i + 2 < soup.size(); i += 3) {
+    const double a =
+        0.5 * glm::length(glm::cross(glm::dvec3(soup[i + 1] - soup[i]), glm::dvec3(soup[i + 2] - soup[i])));
+    if (std::isfinite(a)) area += a;
+    cumulative_area.push_back(area);
+  }
+  if (!(area > 0.0)) return by_cluster;
+  Draws draws{0x5EEDull};
+  for (int s = 0; s < kSurfaceSamples; ++s) {
+    const std::size_t triangle =
+        std::min(std::size_t(std::upper_bound(cumulative_area.begin(), cumulative_area.end(), draws.uniform() * area) -
+                             cumulative_area.begin()),
+                 cumulative_area.size() - 1);
+    const glm::vec3 a = soup[3 * triangle], b = soup[3 * triangle + 1], c = soup[3 * triangle + 2];
+    const glm::vec3 cross = glm::cross(b - a, c - a);
+    const float length = glm::length(cross);
+    if (!(length > 0.0f) || !std::isfinite(length)) continue;
+    // Uniform on the triangle (pbrt-v4's SampleUniformTriangle, square-root form).
+    const float root = float(std::sqrt(draws.uniform())), v = float(draws.uniform());
+    const glm::vec3 p = a + root * (1.0f - v) * (b - a) + root * v * (c - a);
+    const glm::vec3 unit = cross / length;
+    for (const glm::vec3& normal : {unit, -unit}) {
+      // The lookup must reach its voxel without crossing a surface: within a voxel of a thin wall, the nearest
+      // empty voxel may lie behind it, and a point there would pass as the other room's.
+      const glm::vec3 lifted = p + lift * normal;
+      const uint32_t cluster = topology.cluster_at(lifted, normal, Topology::Side::Front, clear);
+      if (cluster < topology.cluster_count) by_cluster[cluster].push_back({lifted, normal});
+    }
+  }
+  return by_cluster;
+}
+
+struct Segment {
+  glm::vec3 from, to;  // from the lower cluster's surface to the higher's, lifted off them
+  double weight;       // the form factor's kernel
+  bool clear;
+};
+
+// Where a clear segment from cluster a to cluster b crosses what divides them: the middle of the stretch between
+// leaving a's voxels and entering b's for good (solid voxels, the closed gaps).
+glm::vec3 crossing(const Topology& topology, uint32_t a, uint32_t b, const Segment& segment) {
+  const GridShape& shape = topology.grid.shape;
+  const auto cluster = [&](glm::vec3 p) {
+    const glm::ivec3 v = shape.voxel_at(glm::dvec3(p));
+    return shape.inside(v) ? topology.cluster_of_node(topology.skeleton.voxel_node[shape.index(v)]) : kNoNode;
+  };
+  const float length = glm::distance(segment.from, segment.to);
+  const int steps = std::clamp(int(2.0f * length / float(shape.voxel_size)), 2, 4096);
+  float left = 0.0f, entered = 1.0f;
+  bool in_a = true;
+  for (int step = 0; step <= steps; ++step) {
+    const float t = float(step) / float(steps);
+    const uint32_t c = cluster(glm::mix(segment.from, segment.to, t));
+    if (in_a && c != a) left = t, in_a = false;
+    if (c != b) entered = std::min(1.0f, t + 1.0f / float(steps));
+  }
+  return glm::mix(segment.from, segment.to, 0.5f * (left + entered));
+}
+
+// The rectangle through which the clear segments cross, facing their mean direction, and the share of the
+// light crossing it that passes, per direction bin.
+std::optional<Passage> fit_passage(const Topology& topology, uint32_t a, uint32_t b,
+                                   const std::vector<Segment>& segments) {
+  glm::dvec3 direction(0.0), centre(0.0);
+  double clear_weight = 0.0;
+  for (const Segment& s : segments)
+    if (s.clear) {
+      direction += s.weight * glm::dvec3(glm::normalize(s.to - s.from));
+      centre += s.weight * glm::dvec3(crossing(topology, a, b, s));
+      clear_weight += s.weight;
+    }
+  if (!(clear_weight > 0.0) || !(glm::length(direction) > 0.0)) return std::nullopt;
+  Passage passage;
+  passage.gate.clusters = {a, b};
+  passage.gate.normal = glm::vec3(glm::normalize(direction));
+  passage.gate.centre = glm::vec3(centre / clear_weight);
+  // The crossings of the clear segments with the rectangle's plane, in a basis of it; the rectangle along their
+  // principal axes (the 2 x 2 covariance's), around all of them and half a voxel more.
+  const glm::vec3 n = passage.gate.normal;
+  const glm::vec3 t1 =
+      glm::normalize(std::abs(n.x) < 0.9f ? glm::cross(n, glm::vec3(1, 0, 0)) : glm::cross(n, glm::vec3(0, 1, 0)));
+  const glm::vec3 t2 = glm::cross(n, t1);
+  std::vector<glm::vec2> on_plane;
+  double c11 = 0.0, c12 = 0.0, c22 = 0.0;
+  for (const Segment& s : segments) {
+    if (!s.clear) continue;
+    const float from_side = glm::dot(s.from - passage.gate.centre, n),
+                to_side = glm::dot(s.to - passage.gate.centre, n);
+    if (!(from_side * to_side < 0.0f)) continue;
+    const glm::vec3 at = s.from + (s.to - s.from) * (from_side / (from_side - to_side)) - passage.gate.centre;
+    const glm::vec2 uv(glm::dot(at, t1), glm::dot(at, t2));
+    on_plane.push_back(uv);
+    c11 += s.weight * uv.x * uv.x, c12 += s.weight * uv.x * uv.y, c22 += s.weight * uv.y * uv.y;
+  }
+  if (on_plane.empty()) return std::nullopt;
+  const double angle = 0.5 * std::atan2(2.0 * c12, c11 - c22);
+  const glm::vec2 axis(float(std::cos(angle)), float(std::sin(angle)));
+  passage.gate.axis_u = axis.x * t1 + axis.y * t2;
+  const float margin = 0.5f * float(topology.grid.shape.voxel_size);
+  for (const glm::vec2& uv : on_plane) {
+    passage.gate.half_u = std::max(passage.gate.half_u, std::abs(glm::dot(uv, axis)) + margin);
+    passage.gate.half_v = std::max(passage.gate.half_v, std::abs(axis.x * uv.y - axis.y * uv.x) + margin);
+  }
+  passage.gate.radius = std::hypot(passage.gate.half_u, passage.gate.half_v);
+  // Per bin, and over every direction for the bins no segment crossing the rectangle fell in.
+  std::array<double, kPassageBins + 1> weight{}, passed{};
+  const Gate& g = passage.gate;
+  for (const Segment& s : segments) {
+    if (!shared::in_gate_cone(s.from, g.centre, g.normal, g.axis_u, g.half_u, g.half_v, s.to)) continue;
+    for (const int bin : {shared::topology_passage_bin(glm::normalize(s.to - s.from)), kPassageBins}) {
+      weight[bin] += s.weight;
+      if (s.clear) passed[bin] += s.weight;
+    }
+  }
+  if (!(passed[kPassageBins] > 0.0)) return std::nullopt;
+  for (int bin = 0; bin < kPassageBins; ++bin)
+    passage.share[bin] =
+        float(weight[bin] > 0.0 ? passed[bin] / weight[bin] : passed[kPassageBins] / weight[kPassageBins]);
+  return passage;
+}
+
+}  // namespace
+
+std::vector<uint32_t> gate_components(uint32_t cluster_count, std::span<const Gate> gates) {
+  std::vector<uint32_t> component(cluster_count);
+  std::iota(component.begin(), component.end(), 0u);
+  const auto root = [&](uint32_t c) {
+    while (component[c] != c) c = component[c] = component[component[c]];
+    return c;
+  };
+  for (const Gate& gate : gates)
+    if (gate.clusters[0] < cluster_count && gate.clusters[1] < cluster_count) {
+      const uint32_t a = root(gate.clusters[0]), b = root(gate.clusters[1]);
+      component[std::max(a, b)] = std::min(a, b);
+    }
+  for (uint32_t c = 0; c < cluster_count; ++c) component[c] = root(c);
+  return component;
+}
+
+Passages estimate_passages(const Topology& topology, std::span<const glm::vec3> soup, const SegmentClear& clear,
+                           const CancelCheck& cancelled) {
+  const uint32_t count = topology.cluster_count;
+  if (!clear || count > kMaxPassageClusters || topology.component.size() != count ||
+      std::all_of(topology.component.begin(), topology.component.end(), [](uint32_t c) { return c == 0; }))
+    return {};
+  const auto voxel = float(topology.grid.shape.voxel_size);
+  const float lift = 2e-3f * voxel;  // off the surface, clear of float rounding and far inside a voxel
+  const std::vector<std::vector<SurfacePoint>> points = points_by_cluster(topology, soup, clear, lift);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  for (uint32_t a = 0; a < count; ++a)
+    for (uint32_t b = a + 1; b < count; ++b)
+      if (topology.component[a] != topology.component[b] && !points[a].empty() && !points[b].empty())
+        pairs.emplace_back(a, b);
+  std::vector<std::optional<Passage>> found(pairs.size());
+  // The check reports progress through the caller's state: one thread at a time.
+  std::mutex check_mutex;
+  parallel_for(pairs.size(), 0, 1, [&](std::size_t i) {
+    if (cancelled && i % 64 == 0) {
+      std::lock_guard lock(check_mutex);
+      if (cancelled()) throw Cancelled{};
+    }
+    const auto [a, b] = pairs[i];
+    Draws draws{0xC1EA2ull ^ (uint64_t(a) << 32 | b)};
+    std::vector<Segment> segments;
+    bool any_passed = false;
+    for (int k = 0; k < kDraws; ++k) {
+      if (k == kProbeDraws && !any_passed) return;  // a wall: nothing passed
+      const SurfacePoint& p = points[a][draws.below(points[a].size())];
+      const SurfacePoint& q = points[b][draws.below(points[b].size())];
+      const glm::vec3 offset = q.position - p.position;
+      const float distance2 = glm::dot(offset, offset);
+      if (!(distance2 > 0.0f)) continue;
+      const glm::vec3 direction = offset / std::sqrt(distance2);
+      // The point-to-point form factor's kernel, its distance held to a voxel as the renderers clamp theirs.
+      const double w =
+          double(std::max(0.0f, glm::dot(p.normal, direction)) * std::max(0.0f, -glm::dot(q.normal, direction))) /
+          double(std::max(distance2, voxel * voxel));
+      if (!(w > 0.0)) continue;
+      const bool passed = clear(p.position, q.position);
+      any_passed = any_passed || passed;
+      segments.push_back({p.position, q.position, w, passed});
+    }
+    found[i] = fit_passage(topology, a, b, segments);
+  });
+  Passages passages;
+  passages.slot.assign(std::size_t(count) * count, 0u);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (!found[i]) continue;
+    const auto [a, b] = pairs[i];
+    passages.passages.push_back(*found[i]);
+    passages.slot[std::size_t(a) * count + b] = passages.slot[std::size_t(b) * count + a] =
+        uint32_t(passages.passages.size());
+  }
+  if (passages.passages.empty()) passages.slot.clear();
+  return passages;
+}
+
+}  // namespace bounce::topology

@@ -9,6 +9,8 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 #include <glm/vec2.hpp>
 
 #include "common/parallel.h"
@@ -98,44 +100,87 @@ struct Segment {
   bool clear;
 };
 
-// Where a clear segment from cluster a to cluster b crosses what divides them: the middle of the stretch between
-// leaving a's voxels and entering b's for good (solid voxels, the closed gaps).
+// Where a clear segment from cluster a to cluster b crosses what divides them (a clear segment also grazes the
+// solid voxels of furniture between clusters the gates join, so only a change of component counts): the middle of
+// the first stretch of solid voxels with empty voxels of different components on its two sides; else where it
+// leaves the solid voxels it starts in, or enters those it ends in, when the empty voxels beyond are not of its
+// end's component (an end on a slat, inside the closed gaps); else the segment's middle.
 glm::vec3 crossing(const Topology& topology, uint32_t a, uint32_t b, const Segment& segment) {
   const GridShape& shape = topology.grid.shape;
-  const auto cluster = [&](glm::vec3 p) {
-    const glm::ivec3 v = shape.voxel_at(glm::dvec3(p));
-    return shape.inside(v) ? topology.cluster_of_node(topology.skeleton.voxel_node[shape.index(v)]) : kNoNode;
-  };
   const float length = glm::distance(segment.from, segment.to);
-  const int steps = std::clamp(int(2.0f * length / float(shape.voxel_size)), 2, 4096);
-  float left = 0.0f, entered = 1.0f;
-  bool in_a = true;
+  const int steps = std::clamp(int(4.0f * length / float(shape.voxel_size)), 2, 8192);
+  const auto at = [&](int step) { return glm::mix(segment.from, segment.to, float(step) / float(steps)); };
+  uint32_t first = kNoNode, last = kNoNode;  // the components of the first and the last empty voxel in a cluster
+  int first_empty = -1, run = -1;            // run: the first step of the current stretch of solid voxels
   for (int step = 0; step <= steps; ++step) {
-    const float t = float(step) / float(steps);
-    const uint32_t c = cluster(glm::mix(segment.from, segment.to, t));
-    if (in_a && c != a) left = t, in_a = false;
-    if (c != b) entered = std::min(1.0f, t + 1.0f / float(steps));
+    const glm::ivec3 v = shape.voxel_at(glm::dvec3(at(step)));
+    if (!shape.inside(v)) continue;
+    const std::size_t index = shape.index(v);
+    if (topology.grid.solid[index] != 0) {
+      if (run < 0) run = step;
+      continue;
+    }
+    const uint32_t cluster = topology.cluster_of_node(topology.skeleton.voxel_node[index]);
+    if (cluster == kNoNode) continue;
+    const uint32_t component = topology.component[cluster];
+    if (run >= 0 && last != kNoNode && component != last) return at((run + step) / 2);
+    if (first == kNoNode) first = component, first_empty = step;
+    run = -1;
+    last = component;
   }
-  return glm::mix(segment.from, segment.to, 0.5f * (left + entered));
+  if (first != kNoNode && first != topology.component[a]) return at(first_empty);
+  if (last != kNoNode && run >= 0 && last != topology.component[b]) return at(run);
+  return 0.5f * (segment.from + segment.to);
 }
 
-// The rectangle through which the clear segments cross, facing their mean direction, and the share of the
-// light crossing it that passes, per direction bin.
-std::optional<Passage> fit_passage(const Topology& topology, uint32_t a, uint32_t b,
-                                   const std::vector<Segment>& segments) {
+// The unit normal of the plane that best fits the weighted points around `centre` (their covariance's smallest
+// eigenvector, by power iteration on trace - covariance), facing as `toward`; `toward` itself when the points lie
+// on no plane (the smallest eigenvalue not well below the middle one).
+glm::vec3 plane_normal(const std::vector<std::pair<glm::dvec3, double>>& points, glm::dvec3 centre, glm::dvec3 toward) {
+  glm::dmat3 covariance(0.0);
+  for (const auto& [p, w] : points) {
+    const glm::dvec3 d = p - centre;
+    covariance += w * glm::outerProduct(d, d);
+  }
+  const double trace = covariance[0][0] + covariance[1][1] + covariance[2][2];
+  if (!(trace > 0.0)) return glm::vec3(toward);
+  const auto dominant = [](const glm::dmat3& m, glm::dvec3 v) {
+    for (int i = 0; i < 64; ++i) {
+      const glm::dvec3 next = m * v;
+      const double length = glm::length(next);
+      if (!(length > 0.0)) break;
+      v = next / length;
+    }
+    return v;
+  };
+  const glm::dvec3 smallest = dominant(glm::dmat3(trace) - covariance, toward);
+  const glm::dvec3 largest =
+      dominant(covariance, glm::dvec3(toward.y - toward.z, toward.z - toward.x, toward.x - toward.y) + 0.1);
+  const double low = glm::dot(smallest, covariance * smallest), high = glm::dot(largest, covariance * largest);
+  const double middle = trace - low - high;
+  if (!(low < 0.25 * middle)) return glm::vec3(toward);
+  return glm::vec3(glm::dot(smallest, toward) < 0.0 ? -smallest : smallest);
+}
+
+// The rectangle through which the clear segments cross, in the plane that fits their crossings (or facing their
+// mean direction), and the share of the light crossing it that passes, per direction bin.
+std::optional<Passage> fit_passage(uint32_t a, uint32_t b, const std::vector<Segment>& segments,
+                                   const Topology& topology) {
   glm::dvec3 direction(0.0), centre(0.0);
   double clear_weight = 0.0;
+  std::vector<std::pair<glm::dvec3, double>> crossings;
   for (const Segment& s : segments)
     if (s.clear) {
       direction += s.weight * glm::dvec3(glm::normalize(s.to - s.from));
-      centre += s.weight * glm::dvec3(crossing(topology, a, b, s));
+      crossings.emplace_back(crossing(topology, a, b, s), s.weight);
+      centre += s.weight * crossings.back().first;
       clear_weight += s.weight;
     }
   if (!(clear_weight > 0.0) || !(glm::length(direction) > 0.0)) return std::nullopt;
   Passage passage;
   passage.gate.clusters = {a, b};
-  passage.gate.normal = glm::vec3(glm::normalize(direction));
   passage.gate.centre = glm::vec3(centre / clear_weight);
+  passage.gate.normal = plane_normal(crossings, centre / clear_weight, glm::normalize(direction));
   // The crossings of the clear segments with the rectangle's plane, in a basis of it; the rectangle along their
   // principal axes (the 2 x 2 covariance's), around all of them and half a voxel more.
   const glm::vec3 n = passage.gate.normal;
@@ -242,7 +287,7 @@ Passages estimate_passages(const Topology& topology, std::span<const glm::vec3> 
       any_passed = any_passed || passed;
       segments.push_back({p.position, q.position, w, passed});
     }
-    found[i] = fit_passage(topology, a, b, segments);
+    found[i] = fit_passage(a, b, segments, topology);
   });
   Passages passages;
   passages.slot.assign(std::size_t(count) * count, 0u);

@@ -14,6 +14,7 @@
 #include <glm/vec2.hpp>
 
 #include "common/parallel.h"
+#include "surface_samples.h"
 #include "topology.h"
 
 namespace bounce::topology {
@@ -21,6 +22,7 @@ namespace shared {
 using glm::abs;
 using glm::cross;
 using glm::dot;
+using glm::normalize;
 using glm::vec3;
 using std::min;
 #define PASSAGES_INLINE inline
@@ -32,23 +34,10 @@ using std::min;
 }  // namespace shared
 namespace {
 
-static_assert(kPassageBins == TOPOLOGY_PASSAGE_BINS_PER_SIDE * TOPOLOGY_PASSAGE_BINS_PER_SIDE);
+static_assert(kPassageBinsPerSide == TOPOLOGY_PASSAGE_BINS_PER_SIDE);
 constexpr int kSurfaceSamples = 1 << 16;  // points drawn on the surfaces, by area; each counts on both sides
 constexpr int kProbeDraws = 128;          // point pairs that find whether anything passes between two clusters
 constexpr int kDraws = 4096;              // point pairs of a pair of clusters that pass light, over the bins
-
-// SplitMix64: a fixed stream per purpose, so that the table is the same on every build of a geometry.
-struct Draws {
-  uint64_t state;
-  uint64_t next() {
-    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
-  std::size_t below(std::size_t n) { return std::size_t(uniform() * double(n)) % n; }
-};
 
 struct SurfacePoint {
   glm::vec3 position, normal;  // normal: toward the side whose cluster holds the point
@@ -59,30 +48,9 @@ struct SurfacePoint {
 std::vector<std::vector<SurfacePoint>> points_by_cluster(const Topology& topology, std::span<const glm::vec3> soup,
                                                          const SegmentClear& clear, float lift) {
   std::vector<std::vector<SurfacePoint>> by_cluster(topology.cluster_count);
-  std::vector<double> cumulative_area;
-  cumulative_area.reserve(soup.size() / 3);
-  double area = 0.0;
-  for (std::size_t i = 0; i + 2 < soup.size(); i += 3) {
-    const double a =
-        0.5 * glm::length(glm::cross(glm::dvec3(soup[i + 1] - soup[i]), glm::dvec3(soup[i + 2] - soup[i])));
-    if (std::isfinite(a)) area += a;
-    cumulative_area.push_back(area);
-  }
-  if (!(area > 0.0)) return by_cluster;
   Draws draws{0x5EEDull};
-  for (int s = 0; s < kSurfaceSamples; ++s) {
-    const std::size_t triangle =
-        std::min(std::size_t(std::upper_bound(cumulative_area.begin(), cumulative_area.end(), draws.uniform() * area) -
-                             cumulative_area.begin()),
-                 cumulative_area.size() - 1);
-    const glm::vec3 a = soup[3 * triangle], b = soup[3 * triangle + 1], c = soup[3 * triangle + 2];
-    const glm::vec3 cross = glm::cross(b - a, c - a);
-    const float length = glm::length(cross);
-    if (!(length > 0.0f) || !std::isfinite(length)) continue;
-    // Uniform on the triangle (pbrt-v4's SampleUniformTriangle, square-root form).
-    const float root = float(std::sqrt(draws.uniform())), v = float(draws.uniform());
-    const glm::vec3 p = a + root * (1.0f - v) * (b - a) + root * v * (c - a);
-    const glm::vec3 unit = cross / length;
+  for (const SurfaceSample& sample : sample_surfaces(soup, kSurfaceSamples, draws)) {
+    const glm::vec3 p = sample.position, unit = sample.normal;
     for (const glm::vec3& normal : {unit, -unit}) {
       // The lookup must reach its voxel without crossing a surface: within a voxel of a thin wall, the nearest
       // empty voxel may lie behind it, and a point there would pass as the other room's.

@@ -24,7 +24,8 @@ namespace bounce::topology {
 struct Topology;
 
 inline constexpr uint32_t kMaxPassageClusters = 1024;  // the slot table is dense: 4 MiB at most
-inline constexpr int kPassageBins = 64;                // TOPOLOGY_PASSAGE_BINS_PER_SIDE squared
+inline constexpr int kPassageBinsPerSide = 8;          // TOPOLOGY_PASSAGE_BINS_PER_SIDE
+inline constexpr int kPassageBins = kPassageBinsPerSide * kPassageBinsPerSide;
 
 // Light between two clusters no chain of gates joins: it crosses `gate`, the rectangle around where the clear
 // segments between them cross (clusters: the two, the lower first; normal: their mean direction), and passes with

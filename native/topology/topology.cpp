@@ -86,7 +86,7 @@ std::string Topology::summary() const {
 }
 
 Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress,
-               const SegmentClear& clear) {
+               const RayQueries& rays) {
   Topology t;
   // Rough shares of the total time per stage, for the progress bar.
   constexpr float kStart[] = {0.0f, 0.1f, 0.2f, 0.9f, 0.95f, 0.98f, 1.0f};
@@ -123,7 +123,8 @@ Topology build(std::span<const glm::vec3> soup, const Settings& settings, const 
   fit_gates_to_boundaries(t.grid, voxel_cluster, t.gates);
   add_boundary_gates(t.grid.shape, voxel_cluster, t.gates);
   t.component = gate_components(t.cluster_count, t.gates);
-  t.passages = estimate_passages(t, soup, clear, cancelled);
+  t.passages = estimate_passages(t, soup, rays.clear, cancelled);
+  t.occluders = estimate_occluders(t, soup, rays.first_hit, cancelled);
   begin(BuildStage::Count);
   return t;
 }

@@ -12,6 +12,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "occluders.h"
 #include "passages.h"
 #include "segmentation.h"
 #include "skeleton.h"
@@ -45,6 +46,9 @@ struct Topology {
   // Between clusters in different components: the light that passes through openings narrower than a voxel
   // (estimate_passages; passages.h). Empty when not estimated.
   Passages passages;
+  // Inside a cluster: how far each surface cell sees along each direction (estimate_occluders; occluders.h).
+  // Empty when not estimated.
+  Occluders occluders;
   std::vector<uint32_t> node_cluster;  // per original skeleton node (node_clusters)
   std::array<double, size_t(BuildStage::Count)> stage_ms{};
 
@@ -70,10 +74,16 @@ struct Topology {
   std::string summary() const;
 };
 
+// A ray tracer's answers, for the estimates made from rays: passages (passages.h) and occluders (occluders.h).
+struct RayQueries {
+  SegmentClear clear;
+  FirstHit first_hit;
+};
+
 // The whole precomputation for the triangle soup (vertices 3i, 3i + 1, 3i + 2), in world space. Settings out of
-// range are clamped (resolution to [1, kMaxResolution], alpha to [0, 1]). With `clear` (a ray tracer's occlusion
-// test), the passages too, in the Gates stage. Throws Cancelled.
+// range are clamped (resolution to [1, kMaxResolution], alpha to [0, 1]). With a ray tracer's queries, the
+// passages and the occluders too, in the Gates stage. Throws Cancelled.
 Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress = {},
-               const SegmentClear& clear = {});
+               const RayQueries& rays = {});
 
 }  // namespace bounce::topology

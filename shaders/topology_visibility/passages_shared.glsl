@@ -23,3 +23,17 @@ PASSAGES_INLINE int topology_passage_bin(vec3 d) {
   int j = min(int((v * 0.5f + 0.5f) * float(n)), n - 1);
   return j * n + i;
 }
+
+// The unit direction at (s, t) in [0, 1]^2 of bin `bin` ((0.5, 0.5): its centre; topology_passage_bin's inverse).
+PASSAGES_INLINE vec3 topology_passage_bin_direction(int bin, float s, float t) {
+  int n = TOPOLOGY_PASSAGE_BINS_PER_SIDE;
+  float u = (float(bin % n) + s) / float(n) * 2.0f - 1.0f;
+  float v = (float(bin / n) + t) / float(n) * 2.0f - 1.0f;
+  float z = 1.0f - abs(u) - abs(v);
+  if (z < 0.0f) {
+    float folded_u = (1.0f - abs(v)) * (u < 0.0f ? -1.0f : 1.0f);
+    v = (1.0f - abs(u)) * (v < 0.0f ? -1.0f : 1.0f);
+    u = folded_u;
+  }
+  return normalize(vec3(u, v, z));
+}

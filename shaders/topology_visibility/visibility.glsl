@@ -49,6 +49,14 @@ float topology_passage(uint from, vec3 p, uint to, vec3 x) {
   return uintBitsToFloat(topology_passages[base + 12u + uint(bin)]);
 }
 
+// The occluders inside clusters (topology::Occluders; native/topology/occluders.h): per padded grid cell 0 or 1 +
+// its slot (a single cell when there are none); per slot and direction bin a word: the distance from the cell's
+// surface to the plane of the surface that stands for the bin, along its normal (Occluders::Hit::plane), as a
+// half float (bits 0-15), that surface's normal in the
+// octahedral map at 6 bits per coordinate (bits 16-27), the share of the bin it hides in 15ths (bits 28-31).
+layout(binding = 22) uniform usampler3D topology_occluder_cells;
+layout(std430, binding = 14) readonly buffer TopologyOccluders { uint topology_occluders[]; };
+
 uint topology_cluster_in(ivec3 cell) {
   if (any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, topology_grid.dims.xyz))) return TOPOLOGY_NO_CLUSTER;
   return texelFetch(topology_clusters, cell, 0).r;
@@ -85,15 +93,41 @@ uint topology_cluster_at(vec3 p, vec3 n) {
   return nearest;
 }
 
+// How much of a light at p a surface inside the cluster leaves to the receiver x: where the surface that rays from
+// x's cell along the bin of p - x meet (topology::Occluders) has p behind its plane by more than two voxels (the
+// cell's surface point and x lie up to a voxel or so apart), the share of the bin's rays that miss it.
+float topology_unoccluded(vec3 p, vec3 x) {
+  ivec3 cell = topology_cell(x);
+  if (any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, textureSize(topology_occluder_cells, 0))))
+    return 1.0;
+  uint slot = texelFetch(topology_occluder_cells, cell, 0).r;
+  if (slot == 0u) return 1.0;
+  vec3 offset = p - x;
+  float distance = length(offset);
+  if (!(distance > 0.0)) return 1.0;
+  uint bins = uint(TOPOLOGY_PASSAGE_BINS_PER_SIDE * TOPOLOGY_PASSAGE_BINS_PER_SIDE);
+  int bin = topology_passage_bin(offset / distance);
+  uint word = topology_occluders[(slot - 1u) * bins + uint(bin)];
+  float plane = unpackHalf2x16(word).x;
+  if (isinf(plane)) return 1.0;  // no surface
+  vec2 e = vec2(float((word >> 16) & 63u), float((word >> 22) & 63u)) / 63.0 * 2.0 - 1.0;
+  vec3 normal = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  if (normal.z < 0.0) normal.xy = (1.0 - abs(normal.yx)) * vec2(e.x < 0.0 ? -1.0 : 1.0, e.y < 0.0 ? -1.0 : 1.0);
+  normal = normalize(normal);
+  if (!(dot(normal, offset) < plane - 2.0 * topology_grid.origin_voxel.w)) return 1.0;
+  return 1.0 - float(word >> 28) / 15.0;
+}
+
 // How much of a light at p in cluster `from` reaches x in cluster `to`, as on the CPU (cpu::reaches): a light
 // without a cluster is walled in and lights nothing; a receiver without one has no visibility information and
-// takes every light; clusters no chain of gates joins pass their passage's share in the direction p-x where the
+// takes every light but those a surface inside the cluster hides (as does the light's own cluster); clusters no
+// chain of gates joins pass their passage's share in the direction p-x where the
 // segment crosses its rectangle; otherwise all when the segment
 // p-x crosses a chain of gates from `from` to `to`, each inside its rectangle, found by a breadth-first walk
 // through at most TOPOLOGY_WALK_CLUSTERS clusters, and none when it does not.
 float topology_visibility(uint from, vec3 p, uint to, vec3 x) {
   if (from == TOPOLOGY_NO_CLUSTER) return 0.0;
-  if (to == TOPOLOGY_NO_CLUSTER || from == to) return 1.0;
+  if (to == TOPOLOGY_NO_CLUSTER || from == to) return topology_unoccluded(p, x);
   float passage = topology_passage(from, p, to, x);
   if (passage > 0.0) return passage;
   uint walk[TOPOLOGY_WALK_CLUSTERS];

@@ -314,6 +314,30 @@ TEST_F(FlcIndirectShadows, GrillePassesTheShareOfLightItsGapsLetThrough) {
   EXPECT_NEAR(passed, traced, 0.3 * traced);
 }
 
+// Blocks inside one cluster: the topology counts every light of a receiver's own cluster, so the blocks of a
+// Cornell-like box cast no indirect shadow. The occluders (native/topology/occluders.h) hide the lights behind a
+// surface that rays from the receiver meet first. The share of the light that visibility takes, with Indirect
+// Shadows against the paper's FLC, is at least half the Topology method's with a shadow ray per VPL against none
+// (ratios, so that each method's own first-bounce bias cancels): 0.070 of 0.105 with the occluders (directions
+// are binned, 25 degrees wide); 0.043 by the clusters and gates alone.
+TEST_F(FlcIndirectShadows, BlocksInsideAClusterCastIndirectShadows) {
+  build_lit_open_box();
+  const auto seen = [&](int method, int visibility) {
+    settings_.method = method;
+    settings_.flc_visibility = visibility;
+    settings_.topology_visibility = visibility ? 1 : 2;  // shadow rays, or none
+    settings_.topology_vpls = 1024;
+    settings_.bounces = 1;
+    settings_.samples = 8;
+    return mean_red(render(BOUNCE_AOV_INDIRECT));
+  };
+  const double traced = seen(BOUNCE_METHOD_TOPOLOGY, 1) / seen(BOUNCE_METHOD_TOPOLOGY, 0);
+  const double kept = seen(BOUNCE_METHOD_FLC, 1) / seen(BOUNCE_METHOD_FLC, 0);
+  std::printf("the light visibility keeps in the box: %.3f with Indirect Shadows, %.3f by shadow rays\n", kept, traced);
+  EXPECT_GT(1.0 - kept, 0.5 * (1.0 - traced));
+  EXPECT_GT(kept, traced - 0.25 * (1.0 - traced));
+}
+
 TEST_F(FlcIndirectShadows, DoorwayLetsLightThrough) {
   const double lit = mean_indirect(two_rooms(), kInA, kWall, 1);
   const double through_door = mean_indirect(two_rooms(), kInB, kWall, 1);

@@ -13,6 +13,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "bounce/bounce.h"
+#include "topology_scenes.h"
 
 namespace bounce::test {
 
@@ -134,6 +135,15 @@ class RenderFixture : public ::testing::Test {
   }
   // The furnace of the issues: a closed diffuse sphere (R = 2, albedo 0.8) with a 1000 W point light at its
   // centre, seen from the centre. First-bounce irradiance on the wall: rho Phi / (4 pi R^2); second: rho times it.
+  // The open box (topology_scenes.h, albedo 0.8) lit by a point light under its ceiling, seen through its open side.
+  void build_lit_open_box() {
+    add_soup(1, open_box().vertices);
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(0.8f);
+    set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(0.0f, 1.0f, 1.9f), glm::vec3(20.0f))});
+    set_camera(glm::lookAt(glm::vec3(0.0f, -3.5f, 1.0f), glm::vec3(0.0f, 1.0f, 1.0f), glm::vec3(0, 0, 1)),
+               glm::perspective(glm::radians(38.0f), 1.0f, 0.05f, 100.0f), 48, 48);
+  }
   void build_furnace() {
     std::vector<float> positions;
     std::vector<uint32_t> triangles;

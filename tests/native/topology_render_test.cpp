@@ -249,12 +249,7 @@ TEST_F(TopologyRender, ClosedRoomGetsNoIndirectLight) {
 // of their own, joined to the rest by boundary gates (TopologyScenes.ClustersWhoseVoxelsTouchHaveAGate) and found
 // by walks through them.
 TEST_F(TopologyRender, OpenBoxKeepsTheLightShadowRaysFind) {
-  add_soup(1, open_box().vertices);
-  set_instances({1}, {glm::mat4(1.0f)});
-  set_albedo(0.8f);
-  set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(0.0f, 1.0f, 1.9f), glm::vec3(20.0f))});
-  set_camera(glm::lookAt(glm::vec3(0.0f, -3.5f, 1.0f), glm::vec3(0.0f, 1.0f, 1.0f), glm::vec3(0, 0, 1)),
-             glm::perspective(glm::radians(38.0f), 1.0f, 0.05f, 100.0f), 48, 48);
+  build_lit_open_box();
   settings_.topology_resolution = 128;
   settings_.samples = 4;
   settings_.topology_visibility = 1;  // shadow rays

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cstring>
+#include <limits>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -44,7 +45,7 @@ std::shared_ptr<const topology::Topology> TopologyCache::get(const CpuScene& sce
   uint64_t key = mix(scene.geometry_hash() ^ mix(uint64_t(settings.topology_resolution)));
   uint32_t alpha_bits = 0;
   std::memcpy(&alpha_bits, &settings.topology_alpha, sizeof alpha_bits);
-  key = mix(mix(key ^ alpha_bits) ^ uint64_t(with_passages_));
+  key = mix(mix(key ^ alpha_bits) ^ uint64_t(with_ray_estimates_));
   if (topology_ && key == key_) return topology_;
   if (auto found = cached(key)) {
     topology_ = std::move(found);
@@ -63,9 +64,14 @@ std::shared_ptr<const topology::Topology> TopologyCache::get(const CpuScene& sce
           callbacks.status(stage_text.c_str(), 0.5f * fraction);
           return !callbacks.cancelled();
         },
-        with_passages_
-            ? topology::SegmentClear([&scene](glm::vec3 from, glm::vec3 to) { return scene.clear_between(from, to); })
-            : topology::SegmentClear{}));
+        with_ray_estimates_
+            ? topology::RayQueries{
+                  [&scene](glm::vec3 from, glm::vec3 to) { return scene.clear_between(from, to); },
+                  [&scene](glm::vec3 origin, glm::vec3 direction) {
+                    const auto hit = scene.intersect(origin, direction, 0.0f, std::numeric_limits<float>::infinity());
+                    return hit ? topology::Occluders::Hit{hit->t, hit->normal} : topology::Occluders::Hit{};
+                  }}
+            : topology::RayQueries{}));
     ++builds;
   } catch (const topology::Cancelled&) {
     topology_ = nullptr;

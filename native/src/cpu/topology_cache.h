@@ -16,9 +16,10 @@ namespace bounce::cpu {
 
 class TopologyCache {
  public:
-  // with_passages: estimate the light through openings narrower than a voxel too (topology/passages.h), for a
-  // renderer without a ray per light; the Topology method casts shadow rays there instead.
-  explicit TopologyCache(bool with_passages) : with_passages_(with_passages) {}
+  // with_ray_estimates: estimate from rays the light through openings narrower than a voxel
+  // (topology/passages.h) and the occluders inside clusters (topology/occluders.h) too, for a renderer without a
+  // ray per light; the Topology method casts shadow rays instead.
+  explicit TopologyCache(bool with_ray_estimates) : with_ray_estimates_(with_ray_estimates) {}
   // The topology of `scene` (synced) for settings.topology_resolution and topology_alpha: this object's own when
   // still valid, else the process-wide cache's, else built, with its stages reported through callbacks.status
   // over the first half of the progress bar. nullptr when cancelled.
@@ -29,7 +30,7 @@ class TopologyCache {
  private:
   std::shared_ptr<const topology::Topology> topology_;
   uint64_t key_ = 0;
-  bool with_passages_;
+  bool with_ray_estimates_;
 };
 
 // How many topologies the process-wide cache has built (bounce_topology_info).

@@ -1,9 +1,14 @@
 #include "passes/topology_visibility/topology_visibility_pass.h"
 
+#include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
+#include <limits>
 #include <vector>
 
+#include <glm/common.hpp>
+#include <glm/gtc/packing.hpp>
 #include <glm/vec4.hpp>
 
 #include "error.h"
@@ -16,6 +21,8 @@ constexpr GLuint kGridBlock = 6;
 constexpr GLuint kGatesBinding = 10;
 constexpr GLuint kClusterGatesBinding = 11;
 constexpr GLuint kPassagesBinding = 13;
+constexpr GLuint kOccludersBinding = 14;
+constexpr GLuint kOccluderCellsUnit = 22;
 constexpr GLuint kClustersUnit = 20;
 
 struct GridBlock {  // std140 mirror of visibility.glsl's TopologyGrid
@@ -91,7 +98,41 @@ void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topol
   gates_ = gl::make_buffer(gates.size() * sizeof(GpuGate), gates.data());
   cluster_gates_ = gl::make_buffer(table.size() * sizeof(uint32_t), table.data());
   passages_ = gl::make_buffer(passages.size() * sizeof(uint32_t), passages.data());
+  upload_occluders(topology->occluders, padded);
   gl::check("uploading the topology's visibility");
+}
+
+void TopologyVisibilityPass::upload_occluders(const topology::Occluders& occluders, glm::ivec3 padded) {
+  // Per padded cell its slot (a 1 x 1 x 1 texture when there are none), then per slot and bin a word: the hit's
+  // plane offset as a half float, its normal in the octahedral map at 6 bits per coordinate, the share of the bin it
+  // hides in the top 4 bits (in 15ths) (visibility.glsl).
+  const bool any = !occluders.slot.empty();
+  const glm::ivec3 dims = any ? padded : glm::ivec3(1);
+  GLuint texture = 0;
+  glCreateTextures(GL_TEXTURE_3D, 1, &texture);
+  occluder_cells_ = gl::Texture(texture);
+  glTextureStorage3D(texture, 1, GL_R32UI, dims.x, dims.y, dims.z);
+  const uint32_t none = 0;
+  glTextureSubImage3D(texture, 0, 0, 0, 0, dims.x, dims.y, dims.z, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                      any ? occluders.slot.data() : &none);
+  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  std::vector<uint32_t> words(occluders.hits.size() + 1, 0u);
+  for (std::size_t i = 0; i < occluders.hits.size(); ++i) {
+    const topology::Occluders::Hit& hit = occluders.hits[i];
+    const glm::vec3 n =
+        hit.normal / std::max(1e-20f, std::abs(hit.normal.x) + std::abs(hit.normal.y) + std::abs(hit.normal.z));
+    glm::vec2 octahedral(n.x, n.y);
+    if (n.z < 0.0f)
+      octahedral =
+          (1.0f - glm::abs(glm::vec2(n.y, n.x))) * glm::vec2(n.x < 0.0f ? -1.0f : 1.0f, n.y < 0.0f ? -1.0f : 1.0f);
+    const glm::uvec2 coordinates(glm::round(glm::clamp(0.5f * octahedral + 0.5f, 0.0f, 1.0f) * 63.0f));
+    // No surface: a plane no light is behind.
+    const float plane = std::isfinite(hit.distance) ? hit.plane : -std::numeric_limits<float>::infinity();
+    words[i] = (glm::packHalf2x16(glm::vec2(plane, 0.0f)) & 0xFFFFu) | (coordinates.x << 16) | (coordinates.y << 22) |
+               (uint32_t(std::lround(std::clamp(hit.share, 0.0f, 1.0f) * 15.0f)) << 28);
+  }
+  occluders_ = gl::make_buffer(words.size() * sizeof(uint32_t), words.data());
 }
 
 void TopologyVisibilityPass::execute(const RenderContext& context, const GBuffer& gbuffer) {
@@ -116,6 +157,8 @@ void TopologyVisibilityPass::bind() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGatesBinding, gates_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kClusterGatesBinding, cluster_gates_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPassagesBinding, passages_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOccludersBinding, occluders_.id());
+  glBindTextureUnit(kOccluderCellsUnit, occluder_cells_.id());
   glBindTextureUnit(kClustersUnit, clusters_.id());
   glBindTextureUnit(kPixelClustersUnit, pixel_clusters_.id());
 }

@@ -1,0 +1,109 @@
+#include "occluders.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <mutex>
+
+#include <glm/geometric.hpp>
+
+#include "common/parallel.h"
+#include "surface_samples.h"
+#include "topology.h"
+
+namespace bounce::topology {
+namespace shared {
+using glm::abs;
+using glm::normalize;
+using glm::vec3;
+using std::min;
+#define PASSAGES_INLINE inline
+#include "topology_visibility/passages_shared.glsl"
+#undef PASSAGES_INLINE
+}  // namespace shared
+namespace {
+
+constexpr int kSamplesPerCell = 4;  // surface draws per surface cell, by area, to find the cells and their sides
+constexpr std::size_t kMaxSamples = std::size_t(1) << 22;
+constexpr int kRaysPerBin = 2;  // stratified across the bin: halves
+
+struct CellSides {
+  std::size_t cell;
+  glm::vec3 position;  // a surface point in the cell
+  glm::vec3 normal;    // its unit normal; the cell's rays leave from it toward its front and from its back
+};
+
+}  // namespace
+
+Occluders estimate_occluders(const Topology& topology, std::span<const glm::vec3> soup, const FirstHit& first_hit,
+                             const CancelCheck& cancelled) {
+  const GridShape& shape = topology.grid.shape;
+  if (!first_hit || shape.empty()) return {};
+  const auto voxel = float(shape.voxel_size);
+  // Surface area over a voxel face's: about the surface cells' count.
+  double area = 0.0;
+  for (std::size_t i = 0; i + 2 < soup.size(); i += 3) {
+    const double a =
+        0.5 * glm::length(glm::cross(glm::dvec3(soup[i + 1] - soup[i]), glm::dvec3(soup[i + 2] - soup[i])));
+    if (std::isfinite(a)) area += a;
+  }
+  const std::size_t count =
+      std::min(kMaxSamples, std::size_t(std::ceil(kSamplesPerCell * area / (double(voxel) * voxel))) + 1);
+  Draws draws{0x0CC1D3ull};
+  std::vector<uint32_t> slot(shape.padded_count(), 0u);
+  std::vector<CellSides> cells;
+  for (const SurfaceSample& sample : sample_surfaces(soup, count, draws)) {
+    const glm::ivec3 v = shape.voxel_at(glm::dvec3(sample.position));
+    if (!shape.inside(v)) continue;
+    const std::size_t cell = shape.index(v);
+    if (slot[cell] != 0) continue;
+    cells.push_back({cell, sample.position, sample.normal});
+    slot[cell] = uint32_t(cells.size());
+  }
+  Occluders occluders;
+  occluders.hits.resize(cells.size() * kPassageBins);
+  const float lift = 2e-3f * voxel;  // off the surface, clear of float rounding and far inside a voxel
+  std::mutex check_mutex;
+  parallel_for(cells.size(), 0, 64, [&](std::size_t i) {
+    if (cancelled && i % 4096 == 0) {
+      std::lock_guard lock(check_mutex);
+      if (cancelled()) throw Cancelled{};
+    }
+    const CellSides& c = cells[i];
+    Draws jitter{0x0CC1D3ull ^ uint64_t(c.cell)};
+    for (int bin = 0; bin < kPassageBins; ++bin) {
+      std::array<Occluders::Hit, kRaysPerBin> hits;
+      int valid = 0;
+      for (int k = 0; k < kRaysPerBin; ++k) {
+        const glm::vec3 direction = shared::topology_passage_bin_direction(
+            bin, 0.5f * (float(k) + float(jitter.uniform())), float(jitter.uniform()));
+        const float facing = glm::dot(direction, c.normal);
+        if (facing == 0.0f) continue;
+        // From the side the direction leaves: a thin surface's two sides see different rooms. The back of a closed
+        // object's surface is inside it, and a ray from there meets the back of a face: it tells nothing of what a
+        // receiver in the cell on another surface (the floor at a pillar's foot) sees.
+        Occluders::Hit hit = first_hit(c.position + (facing > 0.0f ? lift : -lift) * c.normal, direction);
+        const bool back_face = glm::dot(hit.normal, direction) > 0.0f;
+        if (facing < 0.0f && back_face) continue;
+        if (back_face) hit.normal = -hit.normal;
+        hit.plane = glm::dot(hit.normal, hit.distance * direction);
+        hits[valid++] = hit;
+      }
+      if (valid < kRaysPerBin) continue;  // a bin the cell's surface cannot tell about
+      // The nearest surface stands for the bin, for the share of its rays that meet surfaces about as near.
+      std::sort(hits.begin(), hits.end(), [](const auto& a, const auto& b) { return a.distance < b.distance; });
+      Occluders::Hit& bin_hit = occluders.hits[i * kPassageBins + bin];
+      bin_hit = hits[0];
+      bin_hit.share = float(std::count_if(hits.begin(), hits.end(),
+                                          [&](const Occluders::Hit& h) {
+                                            return h.distance <= hits[0].distance * 1.25f + 2.0f * voxel;
+                                          })) /
+                      float(kRaysPerBin);
+    }
+  });
+  occluders.slot = std::move(slot);
+  return occluders;
+}
+
+}  // namespace bounce::topology

@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 
 #include "common/parallel.h"
 #include "surface_samples.h"
@@ -16,6 +17,7 @@ namespace bounce::topology {
 namespace shared {
 using glm::abs;
 using glm::normalize;
+using glm::vec2;
 using glm::vec3;
 using std::min;
 #define PASSAGES_INLINE inline
@@ -42,14 +44,8 @@ Occluders estimate_occluders(const Topology& topology, std::span<const glm::vec3
   if (!first_hit || shape.empty()) return {};
   const auto voxel = float(shape.voxel_size);
   // Surface area over a voxel face's: about the surface cells' count.
-  double area = 0.0;
-  for (std::size_t i = 0; i + 2 < soup.size(); i += 3) {
-    const double a =
-        0.5 * glm::length(glm::cross(glm::dvec3(soup[i + 1] - soup[i]), glm::dvec3(soup[i + 2] - soup[i])));
-    if (std::isfinite(a)) area += a;
-  }
   const std::size_t count =
-      std::min(kMaxSamples, std::size_t(std::ceil(kSamplesPerCell * area / (double(voxel) * voxel))) + 1);
+      std::min(kMaxSamples, std::size_t(std::ceil(kSamplesPerCell * surface_area(soup) / (double(voxel) * voxel))) + 1);
   Draws draws{0x0CC1D3ull};
   std::vector<uint32_t> slot(shape.padded_count(), 0u);
   std::vector<CellSides> cells;
@@ -87,7 +83,7 @@ Occluders estimate_occluders(const Topology& topology, std::span<const glm::vec3
         const bool back_face = glm::dot(hit.normal, direction) > 0.0f;
         if (facing < 0.0f && back_face) continue;
         if (back_face) hit.normal = -hit.normal;
-        hit.plane = glm::dot(hit.normal, hit.distance * direction);
+        if (std::isfinite(hit.distance)) hit.plane = glm::dot(hit.normal, hit.distance * direction);
         hits[valid++] = hit;
       }
       if (valid < kRaysPerBin) continue;  // a bin the cell's surface cannot tell about

@@ -23,6 +23,7 @@ using glm::abs;
 using glm::cross;
 using glm::dot;
 using glm::normalize;
+using glm::vec2;
 using glm::vec3;
 using std::min;
 #define PASSAGES_INLINE inline

@@ -6,17 +6,27 @@
 #include <glm/geometric.hpp>
 
 namespace bounce::topology {
+namespace {
+
+// Of the triangle at soup[i], soup[i + 1], soup[i + 2]; 0 when not finite.
+double triangle_area(std::span<const glm::vec3> soup, std::size_t i) {
+  const double a = 0.5 * glm::length(glm::cross(glm::dvec3(soup[i + 1] - soup[i]), glm::dvec3(soup[i + 2] - soup[i])));
+  return std::isfinite(a) ? a : 0.0;
+}
+
+}  // namespace
+
+double surface_area(std::span<const glm::vec3> soup) {
+  double area = 0.0;
+  for (std::size_t i = 0; i + 2 < soup.size(); i += 3) area += triangle_area(soup, i);
+  return area;
+}
 
 std::vector<SurfaceSample> sample_surfaces(std::span<const glm::vec3> soup, std::size_t count, Draws& draws) {
   std::vector<double> cumulative_area;
   cumulative_area.reserve(soup.size() / 3);
   double area = 0.0;
-  for (std::size_t i = 0; i + 2 < soup.size(); i += 3) {
-    const double a =
-        0.5 * glm::length(glm::cross(glm::dvec3(soup[i + 1] - soup[i]), glm::dvec3(soup[i + 2] - soup[i])));
-    if (std::isfinite(a)) area += a;
-    cumulative_area.push_back(area);
-  }
+  for (std::size_t i = 0; i + 2 < soup.size(); i += 3) cumulative_area.push_back(area += triangle_area(soup, i));
   std::vector<SurfaceSample> samples;
   if (!(area > 0.0)) return samples;
   samples.reserve(count);

@@ -27,6 +27,9 @@ struct SurfaceSample {
   glm::vec3 position, normal;  // normal: the triangle's unit normal (counter-clockwise front)
 };
 
+// The area of the soup's triangles (non-finite ones left out).
+double surface_area(std::span<const glm::vec3> soup);
+
 // `count` draws uniform over the soup's area (vertices 3i, 3i + 1, 3i + 2); draws on degenerate or non-finite
 // triangles are left out, so fewer may come back. Empty when the soup has no area.
 std::vector<SurfaceSample> sample_surfaces(std::span<const glm::vec3> soup, std::size_t count, Draws& draws);

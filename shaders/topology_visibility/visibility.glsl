@@ -1,7 +1,8 @@
 // Indirect visibility from the topology of the empty space (Noel and Biri 2014) on the GPU: the voxels' visibility
 // clusters as a 3-D texture, the gates of each cluster as buffers (native/src/passes/topology_visibility/). A
 // light at p in cluster A reaches x in cluster B when A == B, or when the segment p-x crosses gates from A to B
-// inside their rectangles (Fig. 11). Mirrors cpu::TopologyRenderer's rule.
+// inside their rectangles (Fig. 11), as cpu::TopologyRenderer's rule; where that renderer casts shadow rays (between
+// clusters no gates join) this weighs the light by the passages, and inside a cluster by the occluders.
 #include "topology_visibility/gates_shared.glsl"
 #include "topology_visibility/passages_shared.glsl"
 
@@ -110,10 +111,8 @@ float topology_unoccluded(vec3 p, vec3 x) {
   uint word = topology_occluders[(slot - 1u) * bins + uint(bin)];
   float plane = unpackHalf2x16(word).x;
   if (isinf(plane)) return 1.0;  // no surface
-  vec2 e = vec2(float((word >> 16) & 63u), float((word >> 22) & 63u)) / 63.0 * 2.0 - 1.0;
-  vec3 normal = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-  if (normal.z < 0.0) normal.xy = (1.0 - abs(normal.yx)) * vec2(e.x < 0.0 ? -1.0 : 1.0, e.y < 0.0 ? -1.0 : 1.0);
-  normal = normalize(normal);
+  vec3 normal =
+      direction_from_octahedral(vec2(float((word >> 16) & 63u), float((word >> 22) & 63u)) / 63.0 * 2.0 - 1.0);
   if (!(dot(normal, offset) < plane - 2.0 * topology_grid.origin_voxel.w)) return 1.0;
   return 1.0 - float(word >> 28) / 15.0;
 }

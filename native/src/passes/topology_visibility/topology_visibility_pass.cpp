@@ -9,12 +9,23 @@
 
 #include <glm/common.hpp>
 #include <glm/gtc/packing.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
 #include "error.h"
 #include "gl/shader.h"
 
 namespace bounce {
+namespace shared {
+using glm::abs;
+using glm::normalize;
+using glm::vec2;
+using glm::vec3;
+using std::min;
+#define PASSAGES_INLINE inline
+#include "topology_visibility/passages_shared.glsl"
+#undef PASSAGES_INLINE
+}  // namespace shared
 namespace {
 
 constexpr GLuint kGridBlock = 6;
@@ -120,15 +131,11 @@ void TopologyVisibilityPass::upload_occluders(const topology::Occluders& occlude
   std::vector<uint32_t> words(occluders.hits.size() + 1, 0u);
   for (std::size_t i = 0; i < occluders.hits.size(); ++i) {
     const topology::Occluders::Hit& hit = occluders.hits[i];
-    const glm::vec3 n =
-        hit.normal / std::max(1e-20f, std::abs(hit.normal.x) + std::abs(hit.normal.y) + std::abs(hit.normal.z));
-    glm::vec2 octahedral(n.x, n.y);
-    if (n.z < 0.0f)
-      octahedral =
-          (1.0f - glm::abs(glm::vec2(n.y, n.x))) * glm::vec2(n.x < 0.0f ? -1.0f : 1.0f, n.y < 0.0f ? -1.0f : 1.0f);
+    // No surface: a plane no light is behind (and no normal).
+    const bool surface = std::isfinite(hit.distance);
+    const glm::vec2 octahedral = surface ? shared::octahedral_from_direction(hit.normal) : glm::vec2(0.0f);
     const glm::uvec2 coordinates(glm::round(glm::clamp(0.5f * octahedral + 0.5f, 0.0f, 1.0f) * 63.0f));
-    // No surface: a plane no light is behind.
-    const float plane = std::isfinite(hit.distance) ? hit.plane : -std::numeric_limits<float>::infinity();
+    const float plane = surface ? hit.plane : -std::numeric_limits<float>::infinity();
     words[i] = (glm::packHalf2x16(glm::vec2(plane, 0.0f)) & 0xFFFFu) | (coordinates.x << 16) | (coordinates.y << 22) |
                (uint32_t(std::lround(std::clamp(hit.share, 0.0f, 1.0f) * 15.0f)) << 28);
   }

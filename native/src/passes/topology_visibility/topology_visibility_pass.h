@@ -3,7 +3,7 @@
 //   prepare  - when the topology changes: every grid cell's visibility cluster (its nearest skeleton node's,
 //              Sec. IV.B) into a 3-D texture, the gates (Sec. IV.C), each cluster's gate list and the passages
 //              between clusters no gates join (native/topology/passages.h) into buffers; the occluders inside
-//              clusters (native/topology/occluders.h): each cell's slot as a 3-D texture, the distances as a buffer.
+//              clusters (native/topology/occluders.h): each cell's slot as a 3-D texture, its hits as a buffer.
 //   execute  - per sample: each pixel's cluster from the G-buffer (pixel_clusters.frag), for the shaders that
 //              include visibility.glsl; bind() makes the grid, the gates and that image visible to them.
 #pragma once
@@ -22,7 +22,8 @@ class TopologyVisibilityPass {
   TopologyVisibilityPass();
   void prepare(const std::shared_ptr<const topology::Topology>& topology);
   void execute(const RenderContext& context, const GBuffer& gbuffer);
-  void bind() const;  // the grid, the gates, the passages and the pixel clusters, at visibility.glsl's bindings
+  // The grid, the gates, the passages, the occluders and the pixel clusters, at visibility.glsl's bindings.
+  void bind() const;
   static constexpr GLuint kPixelClustersUnit = 21;
 
  private:

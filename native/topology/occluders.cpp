@@ -10,20 +10,11 @@
 #include <glm/vec2.hpp>
 
 #include "common/parallel.h"
+#include "shared_glsl.h"
 #include "surface_samples.h"
 #include "topology.h"
 
 namespace bounce::topology {
-namespace shared {
-using glm::abs;
-using glm::normalize;
-using glm::vec2;
-using glm::vec3;
-using std::min;
-#define PASSAGES_INLINE inline
-#include "topology_visibility/passages_shared.glsl"
-#undef PASSAGES_INLINE
-}  // namespace shared
 namespace {
 
 constexpr int kSamplesPerCell = 4;  // surface draws per surface cell, by area, to find the cells and their sides

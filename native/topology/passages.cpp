@@ -14,25 +14,11 @@
 #include <glm/vec2.hpp>
 
 #include "common/parallel.h"
+#include "shared_glsl.h"
 #include "surface_samples.h"
 #include "topology.h"
 
 namespace bounce::topology {
-namespace shared {
-using glm::abs;
-using glm::cross;
-using glm::dot;
-using glm::normalize;
-using glm::vec2;
-using glm::vec3;
-using std::min;
-#define PASSAGES_INLINE inline
-#include "topology_visibility/passages_shared.glsl"
-#undef PASSAGES_INLINE
-#define GATES_INLINE inline
-#include "topology_visibility/gates_shared.glsl"
-#undef GATES_INLINE
-}  // namespace shared
 namespace {
 
 static_assert(kPassageBinsPerSide == TOPOLOGY_PASSAGE_BINS_PER_SIDE);

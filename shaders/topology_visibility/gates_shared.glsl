@@ -1,6 +1,6 @@
 // The visibility gate test of the topology method, shared by the shaders (shaders/topology_visibility/) and the
-// CPU renderer (native/src/cpu/topology_renderer.cpp includes this file into C++ with GLM). Written in the common
-// subset of GLSL and C++; GATES_INLINE is `inline` in C++.
+// CPU (native/topology/shared_glsl.h includes this file into C++ with GLM). Written in the common subset of GLSL
+// and C++; GATES_INLINE is `inline` in C++.
 // The most clusters a walk through gates visits, the first included (topology_visibility, cpu reaches()).
 #define TOPOLOGY_WALK_CLUSTERS 8
 

@@ -1,7 +1,7 @@
 // The direction bins of the passages between clusters and of the occluders inside them (native/topology/
-// passages.h, occluders.h), shared by visibility.glsl, the estimates on the CPU (native/topology/*.cpp) and their
-// upload (topology_visibility_pass.cpp), which include this file into C++ with GLM. Written in the common subset of
-// GLSL and C++; PASSAGES_INLINE is `inline` in C++.
+// passages.h, occluders.h), shared by visibility.glsl, the estimates on the CPU and their upload
+// (native/topology/shared_glsl.h includes this file into C++ with GLM). Written in the common subset of GLSL and
+// C++; PASSAGES_INLINE is `inline` in C++.
 // Bins per side of the octahedral map of directions; a passage or an occluder cell holds this squared.
 #define TOPOLOGY_PASSAGE_BINS_PER_SIDE 8
 

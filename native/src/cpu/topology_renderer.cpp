@@ -19,6 +19,7 @@
 #include "radiometry.h"
 #include "sample_schedule.h"
 #include "sampling.h"
+#include "topology/shared_glsl.h"
 
 namespace bounce::cpu {
 namespace {
@@ -40,18 +41,8 @@ struct ViewSample {
   bool hit = false;
 };
 
-namespace shared {
-using glm::abs;
-using glm::cross;
-using glm::dot;
-using glm::vec3;
-#define GATES_INLINE inline
-#include "topology_visibility/gates_shared.glsl"
-#undef GATES_INLINE
-}  // namespace shared
-
 bool in_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 x) {
-  return shared::in_gate_cone(p, gate.centre, gate.normal, gate.axis_u, gate.half_u, gate.half_v, x);
+  return topology::shared::in_gate_cone(p, gate.centre, gate.normal, gate.axis_u, gate.half_u, gate.half_v, x);
 }
 
 }  // namespace

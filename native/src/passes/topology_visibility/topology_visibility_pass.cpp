@@ -14,18 +14,9 @@
 
 #include "error.h"
 #include "gl/shader.h"
+#include "topology/shared_glsl.h"
 
 namespace bounce {
-namespace shared {
-using glm::abs;
-using glm::normalize;
-using glm::vec2;
-using glm::vec3;
-using std::min;
-#define PASSAGES_INLINE inline
-#include "topology_visibility/passages_shared.glsl"
-#undef PASSAGES_INLINE
-}  // namespace shared
 namespace {
 
 constexpr GLuint kGridBlock = 6;
@@ -133,7 +124,7 @@ void TopologyVisibilityPass::upload_occluders(const topology::Occluders& occlude
     const topology::Occluders::Hit& hit = occluders.hits[i];
     // No surface: a plane no light is behind (and no normal).
     const bool surface = std::isfinite(hit.distance);
-    const glm::vec2 octahedral = surface ? shared::octahedral_from_direction(hit.normal) : glm::vec2(0.0f);
+    const glm::vec2 octahedral = surface ? topology::shared::octahedral_from_direction(hit.normal) : glm::vec2(0.0f);
     const glm::uvec2 coordinates(glm::round(glm::clamp(0.5f * octahedral + 0.5f, 0.0f, 1.0f) * 63.0f));
     const float plane = surface ? hit.plane : -std::numeric_limits<float>::infinity();
     words[i] = (glm::packHalf2x16(glm::vec2(plane, 0.0f)) & 0xFFFFu) | (coordinates.x << 16) | (coordinates.y << 22) |

@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <mutex>
-#include <numeric>
 #include <optional>
 
 #include <glm/common.hpp>
@@ -182,22 +181,6 @@ std::optional<Passage> fit_passage(uint32_t a, uint32_t b, const std::vector<Seg
 }
 
 }  // namespace
-
-std::vector<uint32_t> gate_components(uint32_t cluster_count, std::span<const Gate> gates) {
-  std::vector<uint32_t> component(cluster_count);
-  std::iota(component.begin(), component.end(), 0u);
-  const auto root = [&](uint32_t c) {
-    while (component[c] != c) c = component[c] = component[component[c]];
-    return c;
-  };
-  for (const Gate& gate : gates)
-    if (gate.clusters[0] < cluster_count && gate.clusters[1] < cluster_count) {
-      const uint32_t a = root(gate.clusters[0]), b = root(gate.clusters[1]);
-      component[std::max(a, b)] = std::min(a, b);
-    }
-  for (uint32_t c = 0; c < cluster_count; ++c) component[c] = root(c);
-  return component;
-}
 
 Passages estimate_passages(const Topology& topology, std::span<const glm::vec3> soup, const SegmentClear& clear,
                            const CancelCheck& cancelled) {

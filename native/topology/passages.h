@@ -43,9 +43,6 @@ struct Passages {
   std::size_t count() const { return passages.size(); }
 };
 
-// Per cluster: the smallest cluster of its component of the graph the gates make.
-std::vector<uint32_t> gate_components(uint32_t cluster_count, std::span<const Gate> gates);
-
 // The passages between clusters in different components. `clear` says whether the segment between two points
 // lifted off their surfaces is unoccluded. Empty when every cluster is in one component, with more than
 // kMaxPassageClusters clusters, or without a test. Deterministic (fixed draws).

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 
 #include <glm/geometric.hpp>
 
@@ -11,6 +12,27 @@
 #include "voxelize.h"
 
 namespace bounce::topology {
+
+namespace {
+
+// Per cluster: the smallest cluster of its component of the graph the gates make.
+std::vector<uint32_t> gate_components(uint32_t cluster_count, std::span<const Gate> gates) {
+  std::vector<uint32_t> component(cluster_count);
+  std::iota(component.begin(), component.end(), 0u);
+  const auto root = [&](uint32_t c) {
+    while (component[c] != c) c = component[c] = component[component[c]];
+    return c;
+  };
+  for (const Gate& gate : gates)
+    if (gate.clusters[0] < cluster_count && gate.clusters[1] < cluster_count) {
+      const uint32_t a = root(gate.clusters[0]), b = root(gate.clusters[1]);
+      component[std::max(a, b)] = std::min(a, b);
+    }
+  for (uint32_t c = 0; c < cluster_count; ++c) component[c] = root(c);
+  return component;
+}
+
+}  // namespace
 
 const char* build_stage_name(BuildStage stage) {
   switch (stage) {

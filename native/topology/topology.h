@@ -46,8 +46,8 @@ struct Topology {
   // Between clusters in different components: the light that passes through openings narrower than a voxel
   // (estimate_passages; passages.h). Empty when not estimated.
   Passages passages;
-  // Inside a cluster: how far each surface cell sees along each direction (estimate_occluders; occluders.h).
-  // Empty when not estimated.
+  // Inside a cluster: per surface cell and direction bin, the surface that rays meet first (estimate_occluders;
+  // occluders.h). Empty when not estimated.
   Occluders occluders;
   std::vector<uint32_t> node_cluster;  // per original skeleton node (node_clusters)
   std::array<double, size_t(BuildStage::Count)> stage_ms{};

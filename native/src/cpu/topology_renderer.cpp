@@ -51,14 +51,12 @@ bool in_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 x) {
 // (Topology::joined).
 struct ClusterGraph {
   std::vector<std::vector<uint32_t>> gates_of;  // per cluster
-  const topology::Topology& topology;
 
-  explicit ClusterGraph(const topology::Topology& topo) : gates_of(topo.cluster_count), topology(topo) {
+  explicit ClusterGraph(const topology::Topology& topo) : gates_of(topo.cluster_count) {
     for (std::size_t g = 0; g < topo.gates.size(); ++g)
       for (uint32_t c : topo.gates[g].clusters)
         if (c < topo.cluster_count) gates_of[c].push_back(uint32_t(g));
   }
-  bool joined(uint32_t a, uint32_t b) const { return topology.joined(a, b); }
 };
 
 namespace {
@@ -98,7 +96,7 @@ enum class Test : uint8_t {
   kShadowRay,  // a shadow ray: the Shadow Rays mode, and where the topology cannot tell (below)
   kDark,       // never: the VPL is walled in (it has no cluster)
 };
-Test visibility_test(int topology_visibility, const ClusterGraph& graph, uint32_t from, uint32_t to) {
+Test visibility_test(int topology_visibility, const topology::Topology& topo, uint32_t from, uint32_t to) {
   if (topology_visibility == 2) return Test::kNone;
   if (topology_visibility == 1) return Test::kShadowRay;
   if (from == kNoNode) return Test::kDark;
@@ -108,7 +106,7 @@ Test visibility_test(int topology_visibility, const ClusterGraph& graph, uint32_
   // the room beside it. Clusters no chain of gates joins: the opening between them may be narrower than a voxel
   // (blinds whose gaps the grid closes, which kept out half of a sunlit room's indirect light) or not be there
   // at all (a solid wall); the renderer casts those rays only for VPLs whose light reached a probe that way.
-  if (to == kNoNode || !graph.joined(from, to)) return Test::kShadowRay;
+  if (to == kNoNode || !topo.joined(from, to)) return Test::kShadowRay;
   return Test::kGates;
 }
 
@@ -285,7 +283,7 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
     for (const Probe& probe : probes) {
       const glm::vec3 light = probe.albedo * vpl_irradiance(vpl, probe.position, probe.normal, clamp);
       if (!(light.r + light.g + light.b > 0.0f)) continue;
-      switch (visibility_test(settings.topology_visibility, graph, candidate_cluster[i], probe.cluster)) {
+      switch (visibility_test(settings.topology_visibility, topo, candidate_cluster[i], probe.cluster)) {
         case Test::kDark:
           continue;
         case Test::kGates:
@@ -490,7 +488,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         const float sphere = 0.5f * glm::length(hi[g] - lo[g]) + offset;
         const uint32_t cluster = group_cluster[g];
         for (std::size_t l = 0; l < vpls_.size(); ++l) {
-          const Test test = visibility_test(settings.topology_visibility, graph, vpl_cluster_[l], cluster);
+          const Test test = visibility_test(settings.topology_visibility, topo, vpl_cluster_[l], cluster);
           if (test == Test::kDark) continue;
           // Between clusters no gates join, only the VPLs whose light reached a probe that way: a solid wall
           // costs no rays at shading.

@@ -1,6 +1,6 @@
 // Interleaved shading (Sec. II-C): the pixel at (x mod T, y mod T) of its T x T tile takes every T^2-th VPL,
 // starting at an offset that turns with the progressive sample, weighted by T^2. Each VPL gives its irradiance
-// (vpl_irradiance in ssvp_common.glsl: flux / pi G, G capped) times the clustered visibility: whether x is seen
+// (vpl_irradiance in ssvp_common.glsl: flux / pi G, G capped) times the clustered visibility: the share of x seen
 // from the centre of the VPL's cluster in its paraboloid map.
 // Outputs irradiance / pi (the compose pass multiplies the albedo): both bounces, and the second alone.
 #include "ssvp/ssvp_common.glsl"
@@ -9,29 +9,59 @@ layout(binding = 1) uniform sampler2D g_albedo;
 layout(binding = 2) uniform sampler2D g_normal;
 layout(binding = 3) uniform sampler2D g_position;
 layout(binding = 13) uniform sampler2DArray paraboloid_position;
+layout(binding = 14) uniform sampler2DArray paraboloid_normal;
 
 layout(location = 0) out vec4 out_indirect;
 layout(location = 1) out vec4 out_second;
 
-// 1 if x is seen from cluster c's centre. Receivers behind the map's hemisphere get 1: the map knows nothing of
-// them and the VPL's own cosine decides. Against self-shadowing, the receiver is pushed off its surface by a
-// texel's footprint at its distance, and depths up to a footprint x (1 + tan of the incidence) beyond the stored
-// one still count as seen: a surface seen at a grazing angle spans that much depth within one texel.
+// Whether the point at distance r along `direction` from cluster c's centre lies in front of what the map's
+// texel saw, give or take `tolerance`: compared with the depth, along that direction, of the plane of the surface
+// the texel saw (its position and normal), exact for a plane however grazing. A plane seen nearly edge-on gives
+// no such depth: the texel centre's own depth then stands, with `edge_on_tolerance`.
+bool in_front_of_texel(ivec3 texel, vec3 centre, vec3 direction, float r, float tolerance, float edge_on_tolerance) {
+  vec4 seen = texelFetch(paraboloid_position, texel, 0);
+  if (seen.w == 0.0) return true;  // nothing in that direction
+  vec3 seen_normal = texelFetch(paraboloid_normal, texel, 0).xyz;  // faces the centre
+  float facing = dot(direction, seen_normal);
+  if (facing < -0.1) return r <= dot(seen.xyz - centre, seen_normal) / facing + tolerance;
+  return r <= seen.w + edge_on_tolerance;
+}
+
+// The share of x seen from cluster c's centre. Receivers behind the map's hemisphere get 1: the map knows nothing
+// of them and the VPL's own cosine decides. Against self-shadowing, the receiver is pushed off its surface by a
+// texel's footprint at its distance, and half a footprint more is left for curved surfaces and edges. The 2 x 2
+// texels nearest its direction each decide, weighed bilinearly (percentage-closer filtering), so that a texel
+// whose centre looks just past a wall's end (a wall standing on a floor that runs on under it) counts for its
+// share only. The texel centre's depth alone, with a tolerance of a footprint x the tangent of the incidence for
+// grazing planes, let a lit room's light through a thin wall along every corner of the next (the budget's two
+// rooms: 1.8 times Cycles on the side walls, 1.1-1.17 now). Requiring all four texels to see the receiver
+// shadowed a texel's width more around every occluder (Sponza's first bounce 0.94 -> 0.88 of Cycles).
 float cluster_visibility(int c, vec3 x, vec3 n) {
+  vec3 centre = clusters[c].position_first.xyz;
   vec3 local = cluster_local(c, x);
   float r = length(local);
   if (local.z <= 0.0 || r == 0.0) return 1.0;
   vec2 p = ssvp_paraboloid_point(local / r);
   float footprint = r * 4.0 / (float(ssvp.paraboloid_size) * (1.0 + dot(p, p)));
-  vec3 from_centre = x - clusters[c].position_first.xyz;
-  float cos_incidence = max(abs(dot(n, from_centre)) / r, 0.05);
-  float tolerance = footprint * (1.0 + sqrt(1.0 - cos_incidence * cos_incidence) / cos_incidence);
-  local = cluster_local(c, x + n * footprint);
+  float cos_incidence = max(abs(dot(n, x - centre)) / r, 0.05);
+  float edge_on_tolerance = footprint * (1.0 + sqrt(1.0 - cos_incidence * cos_incidence) / cos_incidence);
+  vec3 pushed = x + n * footprint;
+  local = cluster_local(c, pushed);
   r = length(local);
   if (local.z <= 0.0) return 1.0;
-  vec4 seen = texelFetch(paraboloid_position, ivec3(paraboloid_texel(ssvp_paraboloid_point(local / r)), c), 0);
-  if (seen.w == 0.0) return 1.0;  // nothing in that direction
-  return r <= seen.w + tolerance ? 1.0 : 0.0;
+  vec3 direction = (pushed - centre) / r;
+  vec2 texel_point = (ssvp_paraboloid_point(local / r) * 0.5 + 0.5) * float(ssvp.paraboloid_size) - 0.5;
+  ivec2 corner = ivec2(floor(texel_point));
+  vec2 f = texel_point - vec2(corner);
+  float visibility = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    ivec2 offset = ivec2(i & 1, i >> 1);
+    ivec2 texel = clamp(corner + offset, ivec2(0), ivec2(ssvp.paraboloid_size - 1));
+    float weight = (offset.x == 1 ? f.x : 1.0 - f.x) * (offset.y == 1 ? f.y : 1.0 - f.y);
+    if (in_front_of_texel(ivec3(texel, c), centre, direction, r, 0.5 * footprint, edge_on_tolerance))
+      visibility += weight;
+  }
+  return visibility;
 }
 
 vec3 vpl_light(Vpl vpl, vec3 x, vec3 n) {

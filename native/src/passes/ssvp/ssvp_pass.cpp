@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <numeric>
+#include <tuple>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -22,6 +23,10 @@ namespace bounce {
 
 struct SsvpPass::GpuVpl {
   glm::vec4 position_cluster, normal, flux;
+};
+
+struct SsvpPass::Probe {
+  glm::vec3 position, normal, albedo;
 };
 
 namespace {
@@ -44,6 +49,7 @@ constexpr int kParaboloidBytesPerTexel = 16 + 8 + 8 + 4;
 constexpr float kMinSecondCosine = 1e-2f;  // as MIN_COSINE in ssvp_propagate.comp
 
 using GpuVpl = SsvpPass::GpuVpl;
+using Probe = SsvpPass::Probe;
 struct GpuCluster {
   glm::vec4 position_first, normal_count, tangent, bitangent;
 };
@@ -56,10 +62,6 @@ std::vector<GpuVpl> read_lit_vpls(gl::Readback& readback, GLuint buffer, std::si
     if (v.flux.w != 0.0f && v.flux.r + v.flux.g + v.flux.b > 0.0f) lit.push_back(v);
   return lit;
 }
-
-struct Probe {
-  glm::vec3 position, normal, albedo;
-};
 
 // VPL Importance's view samples: the surface a camera ray meets through one jittered point in each cell of a
 // grid over the whole view (all the tiles of a tiled frame share them), as the rasterizer sees it (cut-outs let
@@ -80,6 +82,11 @@ std::vector<Probe> camera_probes(const RenderContext& frame, const cpu::CpuScene
     probes.push_back({surface.position, surface.shading_normal, surface.albedo});
   }
   return probes;
+}
+
+// The seed of a sample's view samples and of its draws by importance.
+uint32_t importance_key(const RenderContext& context) {
+  return hash_combine(context.seed, context.sample ^ 0x494d5054u);
 }
 
 // Resampled importance (Talbot et al. 2005; cpu::resample): a candidate's importance is the light it gives the
@@ -116,33 +123,6 @@ std::vector<GpuVpl> draw_by_importance(std::span<const GpuVpl> candidates, int w
     kept.push_back(vpl);
   }
   return kept;
-}
-
-// Clustered visibility tests a member's light from its cluster's eye, so a member that cannot see that eye (on the
-// other side of a wall) lights what the eye sees, through the wall. Such a member joins the cluster nearest it
-// under Eq. 2 whose eye it sees (Embree shadow rays); one that sees no eye stays.
-void keep_eyes_in_sight(std::span<const ssvp::ClusterPoint> points, std::span<const ssvp::Cluster> clusters,
-                        std::span<const glm::vec3> eyes, const ssvp::ClusterMetric& metric, const cpu::CpuScene& scene,
-                        std::vector<uint32_t>& assignment) {
-  const float offset = scene.ray_offset();
-  const auto sees = [&](std::size_t i, std::size_t c) {
-    return scene.clear_between(points[i].position + points[i].normal * offset, eyes[c]);
-  };
-  parallel_for(points.size(), 0, 16, [&](std::size_t i) {
-    if (sees(i, assignment[i])) return;
-    std::vector<std::pair<float, uint32_t>> others;
-    for (uint32_t c = 0; c < eyes.size(); ++c)
-      if (c != assignment[i])
-        others.emplace_back(ssvp::ssvp_cluster_distance(points[i].position, points[i].normal, clusters[c].position,
-                                                        clusters[c].normal, metric.w1, metric.w2, metric.length_scale),
-                            c);
-    std::sort(others.begin(), others.end());
-    for (const auto& [distance, c] : others)
-      if (sees(i, c)) {
-        assignment[i] = c;
-        return;
-      }
-  });
 }
 
 // Sorts `vpls` by their cluster (stably) and writes `cluster_offset` + the cluster into each one's
@@ -201,25 +181,77 @@ ClusterEyes cluster_eyes(std::span<const ssvp::ClusterPoint> points, const ssvp:
   return eyes;
 }
 
+// Clustered visibility tests a member's light from its cluster's eye (cluster_visibility in ssvp_shade.frag): the
+// member lights what the eye sees. A member on the other side of a wall from its eye lights the eye's side through
+// the wall, and one that sees the eye may still see another part of the view than the eye does: a VPL on the
+// floor of a lit room whose cluster's eye stands beyond a doorway lit the whole next room from the eye's side
+// (the two rooms' side walls 1.5-1.8 times Cycles'). So each member joins, among the clusters whose eyes it sees,
+// the one whose eye agrees best with it on the view samples: least of the member's light at the probes where
+// its own visibility and the eye's (as the map decides it: a probe behind the map's hemisphere counts as seen)
+// differ. Ties go to the cluster nearest under Eq. 2, the member's own first. A member that sees no eye stays.
+void agree_with_eyes(std::span<const GpuVpl> members, std::span<const ssvp::Cluster> clusters, const ClusterEyes& eyes,
+                     std::span<const Probe> probes, const ssvp::ClusterMetric& metric, const cpu::CpuScene& scene,
+                     float clamp, std::vector<uint32_t>& assignment) {
+  const float offset = scene.ray_offset();
+  const std::size_t cluster_count = clusters.size(), probe_count = probes.size();
+  std::vector<uint8_t> eye_sees(cluster_count * probe_count);
+  parallel_for(cluster_count, 0, 1, [&](std::size_t c) {
+    for (std::size_t p = 0; p < probe_count; ++p) {
+      const glm::vec3 target = probes[p].position + probes[p].normal * offset;
+      eye_sees[c * probe_count + p] =
+          glm::dot(target - eyes.position[c], eyes.axis[c]) <= 0.0f || scene.clear_between(eyes.position[c], target);
+    }
+  });
+  parallel_for(members.size(), 0, 8, [&](std::size_t i) {
+    const glm::vec3 position(members[i].position_cluster), normal(members[i].normal);
+    const cpu::Vpl vpl{position, normal, glm::vec3(members[i].flux)};
+    std::vector<float> light(probe_count, 0.0f);
+    std::vector<uint8_t> sees(probe_count, 0);
+    for (std::size_t p = 0; p < probe_count; ++p) {
+      const glm::vec3 e = probes[p].albedo * cpu::vpl_irradiance(vpl, probes[p].position, probes[p].normal, clamp);
+      light[p] = e.r + e.g + e.b;
+      if (light[p] > 0.0f)
+        sees[p] = scene.clear_between(position + normal * offset, probes[p].position + probes[p].normal * offset);
+    }
+    std::vector<std::tuple<float, float, uint32_t>> ranked;  // (disagreement, Eq. 2 distance, cluster)
+    for (uint32_t c = 0; c < cluster_count; ++c) {
+      float disagreement = 0.0f;
+      for (std::size_t p = 0; p < probe_count; ++p)
+        if (sees[p] != eye_sees[c * probe_count + p]) disagreement += light[p];
+      const float distance =
+          c == assignment[i] ? -1.0f
+                             : ssvp::ssvp_cluster_distance(position, normal, clusters[c].position, clusters[c].normal,
+                                                           metric.w1, metric.w2, metric.length_scale);
+      ranked.emplace_back(disagreement, distance, c);
+    }
+    std::sort(ranked.begin(), ranked.end());
+    for (const auto& [disagreement, distance, c] : ranked)
+      if (scene.clear_between(position + normal * offset, eyes.position[c])) {
+        assignment[i] = c;
+        return;
+      }
+  });
+}
+
 struct VplClusters {
   std::vector<ssvp::Cluster> clusters;
   ClusterEyes eyes;
-  std::vector<uint32_t> counts;  // members per cluster, once keep_eyes_in_sight has moved some
+  std::vector<uint32_t> counts;  // members per cluster, once agree_with_eyes has moved some
 };
 
 // Clusters `vpls` into at most `k` clusters by k-means under Eq. 2 (seeded with the previous frame's clusters,
-// Sec. III-C), gives each its eye, keeps every member in sight of its eye when the scene can be traced, and sorts
-// the VPLs by cluster (sort_by_cluster).
+// Sec. III-C), gives each its eye, moves members to the eyes that agree with them on the view samples `probes`
+// when the scene can be traced (agree_with_eyes), and sorts the VPLs by cluster (sort_by_cluster).
 VplClusters cluster_vpls(std::vector<GpuVpl>& vpls, int k, const ssvp::ClusterMetric& metric,
                          std::span<const ssvp::Cluster> seeds, uint32_t seed, float lift, const cpu::CpuScene* traced,
-                         uint32_t cluster_offset) {
+                         std::span<const Probe> probes, float clamp, uint32_t cluster_offset) {
   const std::vector<ssvp::ClusterPoint> points = cluster_points_of(vpls);
   const ssvp::Clustering clustering = ssvp::cluster_points(points, k, metric, seeds, seed);
   VplClusters result{clustering.clusters, {}, {}};
   if (result.clusters.empty()) return result;
   result.eyes = cluster_eyes(points, clustering, lift);
   std::vector<uint32_t> assignment = clustering.assignment;
-  if (traced) keep_eyes_in_sight(points, result.clusters, result.eyes.position, metric, *traced, assignment);
+  if (traced) agree_with_eyes(vpls, result.clusters, result.eyes, probes, metric, *traced, clamp, assignment);
   result.counts = sort_by_cluster(vpls, assignment, cluster_offset, result.clusters.size());
   for (std::size_t c = 0; c < result.clusters.size(); ++c) result.clusters[c].count = result.counts[c];
   return result;
@@ -354,7 +386,12 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
 
   render_rsm(context, gbuffers, light);
   sample_first_bounce(context, light);
-  std::vector<GpuVpl> second = cluster(context, traced);  // traced with VPL Importance, else propagated below
+  std::vector<Probe> probes;
+  if (traced) {
+    StageScope scope(context.timer, Stage::SsvpImportance);
+    probes = camera_probes(context, *traced, importance_key(context));
+  }
+  std::vector<GpuVpl> second = cluster(context, traced, probes);  // traced with VPL Importance, else propagated below
   if (clusters_.empty()) {
     first_count_ = 0;
     return;
@@ -371,7 +408,7 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
       propagate(context);
       second = read_propagated();
     }
-    cluster_second_bounce(context, std::move(second), traced);
+    cluster_second_bounce(context, std::move(second), traced, probes);
     render_paraboloids(context, first_layers, first_layers + static_cast<int>(second_clusters_.size()));
   }
 }
@@ -466,7 +503,8 @@ void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLig
   gl::check("sampling the first-bounce VPLs");
 }
 
-std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::CpuScene* traced) {
+std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::CpuScene* traced,
+                                      std::span<const Probe> probes) {
   SsvpParams& p = params_;
   std::vector<GpuVpl> candidates, second;
   {
@@ -476,8 +514,7 @@ std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::C
   std::vector<GpuVpl> vpls = candidates;
   if (traced) {
     StageScope scope(context.timer, Stage::SsvpImportance);
-    const uint32_t key = hash_combine(context.seed, context.sample ^ 0x494d5054u);
-    const std::vector<Probe> probes = camera_probes(context, *traced, key);
+    const uint32_t key = importance_key(context);
     vpls =
         draw_by_importance(candidates, first_wanted_, probes, *traced, p.epsilon, hash_to_unit(hash_combine(key, 1u)));
     if (p.bounces > 1)
@@ -488,7 +525,7 @@ std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::C
   const VplClusters first =
       cluster_vpls(vpls, context.settings.ssvp_clusters, metric,
                    context.settings.ssvp_temporal_seeding ? previous_clusters_ : std::vector<ssvp::Cluster>(),
-                   hash_combine(context.seed, 0x4b4du), kCentreLift * p.length_scale, traced, 0);
+                   hash_combine(context.seed, 0x4b4du), kCentreLift * p.length_scale, traced, probes, p.epsilon, 0);
   clusters_ = first.clusters;
   if (clusters_.empty()) return {};
   previous_clusters_ = clusters_;
@@ -518,15 +555,15 @@ std::vector<GpuVpl> SsvpPass::read_propagated() {
 }
 
 void SsvpPass::cluster_second_bounce(const RenderContext& context, std::vector<GpuVpl> vpls,
-                                     const cpu::CpuScene* traced) {
+                                     const cpu::CpuScene* traced, std::span<const Probe> probes) {
   StageScope scope(context.timer, Stage::SsvpCluster);
   SsvpParams& p = params_;
   const ssvp::ClusterMetric metric{p.w1, p.w2, p.length_scale};
   const uint32_t offset = static_cast<uint32_t>(clusters_.size());
-  const VplClusters second =
-      cluster_vpls(vpls, static_cast<int>(clusters_.size()), metric,
-                   context.settings.ssvp_temporal_seeding ? previous_second_clusters_ : std::vector<ssvp::Cluster>(),
-                   hash_combine(context.seed, 0x4b4d32u), kCentreLift * p.length_scale, traced, offset);
+  const VplClusters second = cluster_vpls(
+      vpls, static_cast<int>(clusters_.size()), metric,
+      context.settings.ssvp_temporal_seeding ? previous_second_clusters_ : std::vector<ssvp::Cluster>(),
+      hash_combine(context.seed, 0x4b4d32u), kCentreLift * p.length_scale, traced, probes, p.epsilon, offset);
   second_clusters_ = second.clusters;
   if (!second_clusters_.empty()) previous_second_clusters_ = second_clusters_;
   const std::vector<GpuCluster> second_gpu_clusters = gpu_clusters(second);
@@ -638,6 +675,7 @@ void SsvpPass::shade_vpls(const RenderContext& context, const GBuffer& camera) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kClustersBinding, clusters_buffer_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSecondBinding, second_vpls_.id());
     glBindTextureUnit(kParaboloidPositionUnit, paraboloid_position_.id());
+    glBindTextureUnit(kParaboloidNormalUnit, paraboloid_normal_.id());
     glUseProgram(shade_program_.id());
     draw_fullscreen_triangle();
   }

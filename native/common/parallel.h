@@ -9,12 +9,26 @@
 #include <mutex>
 #include <thread>
 #include <vector>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 namespace bounce {
 
+// Sets this thread's floating-point mode to a fixed one: round to nearest, denormals flushed to zero (FTZ, DAZ).
+// A thread inherits the mode of the thread that starts it, and the one that starts the render thread is
+// Blender's, in whatever mode it left: SSVP's clusters came out differently from one Blender process to another
+// where tiny contributions were denormal on one thread and zero on another.
+inline void use_fixed_float_mode() {
+#if defined(__SSE__)
+  _mm_setcsr(0x9FC0);  // all exceptions masked, round to nearest, FTZ (0x8000) and DAZ (0x0040)
+#endif
+}
+
 // Calls body(i) for i in [0, count) on `threads` threads (0 or less: one per hardware thread), never more
 // threads than there are grains, `grain` consecutive items at a time, handed out in order as threads come free
-// (so uneven items balance); rethrows the first exception.
+// (so uneven items balance), each in the caller's floating-point mode, so that which thread takes an item never
+// changes its result; rethrows the first exception.
 template <class Body>
 void parallel_for(std::size_t count, int threads, std::size_t grain, const Body& body) {
   grain = std::max<std::size_t>(grain, 1);
@@ -23,7 +37,13 @@ void parallel_for(std::size_t count, int threads, std::size_t grain, const Body&
   std::atomic<std::size_t> next{0};
   std::exception_ptr error;
   std::mutex error_mutex;
+#if defined(__SSE__)
+  const unsigned int float_mode = _mm_getcsr();
+#endif
   auto work = [&] {
+#if defined(__SSE__)
+    _mm_setcsr(float_mode);
+#endif
     try {
       for (;;) {
         const std::size_t begin = next.fetch_add(grain);

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "common/parallel.h"
 #include "gl/egl_context.h"
 
 namespace bounce {
@@ -55,6 +56,7 @@ void RenderThread::set_exit_task(std::function<void()> task) {
 }
 
 void RenderThread::loop(const std::string& egl_platform, bool debug_gl, std::promise<void>& started) {
+  use_fixed_float_mode();
   std::unique_ptr<gl::EglContext> context;
   try {
     context = std::make_unique<gl::EglContext>(egl_platform, debug_gl);

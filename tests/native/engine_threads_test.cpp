@@ -3,9 +3,16 @@
 // plain build; the ThreadSanitizer build (README, "Testing": scripts/tsan) runs them to find data races.
 #include <atomic>
 #include <chrono>
+#include <mutex>
+#include <set>
 #include <thread>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
+#include "common/parallel.h"
 #include "render_fixture.h"
+#include "render_thread.h"
 
 namespace bounce::test {
 namespace {
@@ -170,6 +177,43 @@ TEST_F(EngineThreads, RendersSupersededInQuickSuccession) {
   settings_.samples = 1;
   EXPECT_TRUE(all_finite(render()));
 }
+
+#if defined(__SSE__)
+// The render thread starts in the floating-point mode of the thread that creates the engine, which in Blender
+// differs from one process to another; SSVP's clusters came out differently where tiny sums were denormal on one
+// thread and flushed on another (the budget's two rooms, left third: 1.08 in one Blender process, 1.16 in the
+// next). The render thread fixes its mode (denormals flushed, round to nearest) whatever its creator's, and the
+// workers of its parallel loops take it over.
+TEST(RenderThreadFloatMode, IsFixedWhateverTheCreatorsAndWorkersShareIt) {
+  constexpr unsigned int kFixed = 0x9FC0;
+  const unsigned int creator_mode = _mm_getcsr();
+  for (const unsigned int creator : {0x1F80u, 0x9FC0u, 0x7F80u}) {  // default; FTZ and DAZ; round towards zero
+    _mm_setcsr(creator);
+    std::unique_ptr<RenderThread> thread;
+    try {
+      thread = std::make_unique<RenderThread>("", false);
+    } catch (...) {
+      _mm_setcsr(creator_mode);
+      throw;
+    }
+    _mm_setcsr(creator_mode);
+    unsigned int render_thread_mode = 0;
+    std::set<unsigned int> worker_modes;
+    std::mutex worker_modes_mutex;
+    thread->run([&] {
+      render_thread_mode = _mm_getcsr();
+      parallel_for(64, 4, 1, [&](std::size_t) {
+        const unsigned int mode = _mm_getcsr();
+        std::lock_guard lock(worker_modes_mutex);
+        worker_modes.insert(mode);
+      });
+    });
+    EXPECT_EQ(render_thread_mode & ~0x3Fu, kFixed) << "creator's mode " << std::hex << creator;  // flags aside
+    ASSERT_EQ(worker_modes.size(), 1u);
+    EXPECT_EQ(*worker_modes.begin() & ~0x3Fu, kFixed);
+  }
+}
+#endif
 
 }  // namespace
 }  // namespace bounce::test

@@ -185,14 +185,14 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   const bool flc_visibility = flc && plan.indirect_shadows;
   if (plan.needs_cpu_scene()) cpu_scene_.sync(scene_);
   if (flc_visibility) {
-    const uint64_t builds = cpu::topology_builds();
+    const std::shared_ptr<const topology::Topology> before = flc_topologies_.latest();
     std::shared_ptr<const topology::Topology> topology;
     {
       StageScope scope(timer_, Stage::TopologyPrecompute);
       topology = flc_topologies_.get(cpu_scene_, settings, callbacks);
     }
     if (!topology) return false;  // cancelled while building
-    if (cpu::topology_builds() != builds) callbacks.status("", 0.0f);
+    if (topology != before) callbacks.status("", 0.0f);  // clears the build's stage text
     topology_visibility_.prepare(topology);
   }
   uint32_t vpl_count = 0, divergent_count = 0, cluster_count = 0;

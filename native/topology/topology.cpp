@@ -107,11 +107,23 @@ std::string Topology::summary() const {
   return s;
 }
 
+namespace {
+
+// Rough shares of the total time per stage, for the progress bar.
+constexpr float kStart[] = {0.0f, 0.1f, 0.2f, 0.9f, 0.95f, 0.98f, 1.0f};
+
+void estimate_from_rays(Topology& t, std::span<const glm::vec3> soup, const RayQueries& rays,
+                        const CancelCheck& cancelled) {
+  t.passages = estimate_passages(t, soup, rays.clear, cancelled);
+  t.occluders = estimate_occluders(t, soup, rays.first_hit, cancelled);
+  t.ray_estimated = rays.clear && rays.first_hit;
+}
+
+}  // namespace
+
 Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress,
                const RayQueries& rays) {
   Topology t;
-  // Rough shares of the total time per stage, for the progress bar.
-  constexpr float kStart[] = {0.0f, 0.1f, 0.2f, 0.9f, 0.95f, 0.98f, 1.0f};
   auto stage_start = std::chrono::steady_clock::now();
   BuildStage current = BuildStage::Voxelize;
   const auto begin = [&](BuildStage stage) {
@@ -145,10 +157,20 @@ Topology build(std::span<const glm::vec3> soup, const Settings& settings, const 
   fit_gates_to_boundaries(t.grid, voxel_cluster, t.gates);
   add_boundary_gates(t.grid.shape, voxel_cluster, t.gates);
   t.component = gate_components(t.cluster_count, t.gates);
-  t.passages = estimate_passages(t, soup, rays.clear, cancelled);
-  t.occluders = estimate_occluders(t, soup, rays.first_hit, cancelled);
+  estimate_from_rays(t, soup, rays, cancelled);
   begin(BuildStage::Count);
   return t;
+}
+
+Topology with_ray_estimates(Topology base, std::span<const glm::vec3> soup, const RayQueries& rays,
+                            const Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto gates = std::size_t(BuildStage::Gates);
+  const CancelCheck cancelled = [&] { return progress && !progress(BuildStage::Gates, kStart[gates]); };
+  if (cancelled()) throw Cancelled{};
+  estimate_from_rays(base, soup, rays, cancelled);
+  base.stage_ms[gates] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return base;
 }
 
 }  // namespace bounce::topology

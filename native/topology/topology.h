@@ -49,6 +49,7 @@ struct Topology {
   // Inside a cluster: per surface cell and direction bin, the surface that rays meet first (estimate_occluders;
   // occluders.h). Empty when not estimated.
   Occluders occluders;
+  bool ray_estimated = false;          // whether passages and occluders were estimated (they may still be empty)
   std::vector<uint32_t> node_cluster;  // per original skeleton node (node_clusters)
   std::array<double, size_t(BuildStage::Count)> stage_ms{};
 
@@ -85,5 +86,10 @@ struct RayQueries {
 // passages and the occluders too, in the Gates stage. Throws Cancelled.
 Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress = {},
                const RayQueries& rays = {});
+// `base`, built from the same soup without a ray tracer, with the passages and the occluders estimated from its
+// queries: what build() with them returns, without building the rest again (Forward Light Cuts needs them, the
+// Topology method does not, and a scene rendered with both keeps one topology). Throws Cancelled.
+Topology with_ray_estimates(Topology base, std::span<const glm::vec3> soup, const RayQueries& rays,
+                            const Progress& progress = {});
 
 }  // namespace bounce::topology

@@ -96,6 +96,23 @@ TEST_F(TopologyRender, CachedAcrossRendersAndLightMoves) {
   bounce_engine_destroy(other);
 }
 
+// Forward Light Cuts' Indirect Shadows need the passages and occluders estimated from rays, the Topology method
+// does not: a scene rendered with both builds its topology once and FLC adds the estimates to it (each renderer
+// built its own before, the skeleton and clusters twice).
+TEST_F(TopologyRender, SharedWithForwardLightCuts) {
+  build_two_rooms();
+  settings_.topology_alpha = 0.27f;  // a topology no other test has put in the cache
+  render();
+  const uint64_t builds = topology_info().builds;
+  settings_.method = BOUNCE_METHOD_FLC;
+  settings_.flc_visibility = 1;
+  EXPECT_TRUE(all_finite(render()));
+  EXPECT_EQ(topology_info().builds, builds);
+  settings_.method = BOUNCE_METHOD_TOPOLOGY;
+  EXPECT_TRUE(all_finite(render()));
+  EXPECT_EQ(topology_info().builds, builds);
+}
+
 TEST_F(TopologyRender, DeterministicUnderASeed) {
   build_two_rooms();
   settings_.samples = 2;

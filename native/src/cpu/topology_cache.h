@@ -18,11 +18,12 @@ class TopologyCache {
  public:
   // with_ray_estimates: estimate from rays the light through openings narrower than a voxel
   // (topology/passages.h) and the occluders inside clusters (topology/occluders.h) too, for a renderer without a
-  // ray per light; the Topology method casts shadow rays instead.
+  // ray per light; the Topology method casts shadow rays instead. Both kinds share one entry per scene: the
+  // estimates are added to a cached topology that lacks them, and a cache without the need takes either.
   explicit TopologyCache(bool with_ray_estimates) : with_ray_estimates_(with_ray_estimates) {}
-  // The topology of `scene` (synced) for settings.topology_resolution and topology_alpha: this object's own when
-  // still valid, else the process-wide cache's, else built, with its stages reported through callbacks.status
-  // over the first half of the progress bar. nullptr when cancelled.
+  // The topology of `scene` (synced) for settings.topology_resolution and topology_alpha: the process-wide
+  // cache's, else this object's own when still valid, else built (or its ray estimates added), with its stages
+  // reported through callbacks.status over the first half of the progress bar. nullptr when cancelled.
   std::shared_ptr<const topology::Topology> get(const CpuScene& scene, const BounceSettings& settings,
                                                 const RenderCallbacks& callbacks);
   const std::shared_ptr<const topology::Topology>& latest() const { return topology_; }  // the last get()'s

@@ -13,14 +13,15 @@ NON_FRAME_STAGES = ("Readback",)
 
 
 def flatten(record):
-    """One flat dict per render: stage times become '<stage> ms' (total over the samples), swept parameters
-    their own columns."""
+    """One flat dict per render: stage times become '<stage> ms' (total over the samples: the GPU's time, or the
+    CPU's for a stage that runs on the CPU alone, such as the Topology method's), swept parameters their own
+    columns; 'frame ms' sums the GPU's."""
     flat = {k: v for k, v in record.items() if k not in ("stages", "params")}
     for name, value in (record.get("params") or {}).items():
         flat[name] = value
     stages = record.get("stages") or {}
     for name, times in stages.items():
-        flat[f"{name} ms"] = times["gpu_ms"]
+        flat[f"{name} ms"] = times["gpu_ms"] or times.get("cpu_ms", 0.0)
     if stages:
         flat["frame ms"] = sum(t["gpu_ms"] for n, t in stages.items() if n not in NON_FRAME_STAGES)
     return flat

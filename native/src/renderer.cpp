@@ -191,7 +191,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       StageScope scope(timer_, Stage::TopologyPrecompute);
       topology = flc_topologies_.get(cpu_scene_, settings, callbacks);
     }
-    if (!topology) return false;  // cancelled while building
+    if (!topology) return false;                         // cancelled while building
     if (topology != before) callbacks.status("", 0.0f);  // clears the build's stage text
     topology_visibility_.prepare(topology);
   }

@@ -9,10 +9,17 @@ namespace bounce {
 struct FramePlan {
   enum class Direct { ShadowMaps, RayTraced };
   enum class Indirect { None, ForwardLightCuts, Ssvp, Topology };
+  enum class NearField { None, RayTraced, FromGBuffer };
   Direct direct = Direct::RayTraced;
   Indirect indirect = Indirect::None;
   bool indirect_shadows = false;  // the topology's clusters and gates shadow Forward Light Cuts' VPLs
   bool vpl_importance = false;    // SSVP draws its VPLs where shadow rays say their light reaches the view
+  // The GL VPL methods' distance clamp takes the first bounce's light next to lit surfaces; the near field gives it
+  // back: by Embree rays with the ray-traced direct light, else marched through the G-buffer (which misses
+  // surfaces the camera does not see). Blurred over near_field_blur pixels, as the method blurs its indirect light.
+  NearField near_field = NearField::None;
+  float near_field_clamp = 0.0f;  // a fraction of the scene's radius
+  int near_field_blur = 0;
 
   // Embree's copy of the scene: for ray-traced direct light, building the topology and tracing VPL importance.
   bool needs_cpu_scene() const { return direct == Direct::RayTraced || indirect_shadows || vpl_importance; }
@@ -26,10 +33,14 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
     case BOUNCE_METHOD_FLC:
       plan.indirect = FramePlan::Indirect::ForwardLightCuts;
       plan.indirect_shadows = settings.flc_visibility != 0;
+      plan.near_field_clamp = settings.flc_epsilon;
+      plan.near_field_blur = settings.flc_blur_radius;
       break;
     case BOUNCE_METHOD_SSVP:
       plan.indirect = FramePlan::Indirect::Ssvp;
       plan.vpl_importance = settings.ssvp_importance != 0;
+      plan.near_field_clamp = settings.ssvp_distance_clamp;
+      plan.near_field_blur = settings.ssvp_blur_radius;
       break;
     case BOUNCE_METHOD_TOPOLOGY:
       plan.indirect = FramePlan::Indirect::Topology;
@@ -37,6 +48,9 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
     default:  // DIRECT (AUTO renders with the explicit method of its plan: auto_plan.h)
       break;
   }
+  if (plan.near_field_clamp > 0.0f)
+    plan.near_field = plan.direct == FramePlan::Direct::RayTraced ? FramePlan::NearField::RayTraced
+                                                                  : FramePlan::NearField::FromGBuffer;
   return plan;
 }
 

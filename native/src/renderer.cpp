@@ -184,6 +184,8 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   const bool traced_direct = plan.direct == FramePlan::Direct::RayTraced;
   const bool flc_visibility = flc && plan.indirect_shadows;
   if (plan.needs_cpu_scene()) cpu_scene_.sync(scene_);
+  const float near_field_clamp =
+      plan.near_field_clamp * 0.5f * glm::length(scene_.bounds_max() - scene_.bounds_min());  // metres
   if (flc_visibility) {
     const std::shared_ptr<const topology::Topology> before = flc_topologies_.latest();
     std::shared_ptr<const topology::Topology> topology;
@@ -262,7 +264,8 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       if (tiles_take_turns) compose_.clear(0, tile.width, tile.height);
       gbuffer_.execute(context);
       if (traced_direct)
-        traced_direct_.execute(context, gbuffer_.gbuffer(), cpu_scene_, scene_lights_);
+        traced_direct_.execute(context, gbuffer_.gbuffer(), cpu_scene_, scene_lights_,
+                               plan.near_field == FramePlan::NearField::RayTraced ? near_field_clamp : 0.0f);
       else
         direct_.execute(context, gbuffer_.gbuffer(), shadows_);
       ComposePass::Indirect indirect;
@@ -275,8 +278,14 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
         ssvp_.shade(context, gbuffer_.gbuffer());
         if (ssvp_.active()) indirect = {ssvp_.indirect(), true, ssvp_.debug(), ssvp_.second()};
       }
-      compose_.accumulate(slot_of(t), context, gbuffer_.gbuffer(),
-                          traced_direct ? traced_direct_.output() : direct_.output(), indirect);
+      const GLuint direct = traced_direct ? traced_direct_.output() : direct_.output();
+      if (indirect.light != 0 && plan.near_field == FramePlan::NearField::RayTraced)
+        indirect.near_field =
+            near_field_.smoothed(context, gbuffer_.gbuffer(), traced_direct_.near_field(), plan.near_field_blur);
+      if (indirect.light != 0 && plan.near_field == FramePlan::NearField::FromGBuffer)
+        indirect.near_field =
+            near_field_.from_gbuffer(context, gbuffer_.gbuffer(), direct, near_field_clamp, plan.near_field_blur);
+      compose_.accumulate(slot_of(t), context, gbuffer_.gbuffer(), direct, indirect);
       gl::check("rendering a sample");
       if (tiles_take_turns) read_tile(*frame, t, samples, s == 0 ? ComposePass::Into::Replace : ComposePass::Into::Add);
       timer_.resolve();

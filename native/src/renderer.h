@@ -2,7 +2,7 @@
 // at most settings.tile_size pixels. A sample first does what does not depend on the view, once for all its tiles:
 // [FLC VPLs -> their lighting by each light's shadow map]; then each tile runs G-buffer -> direct light (shadow
 // maps, rendered by the first tile that needs them and reused by the others; or Embree rays) -> [pixels'
-// visibility clusters] -> [FLC splat | SSVP] -> compose. The Topology method renders on the CPU instead
+// visibility clusters] -> [FLC splat | SSVP] -> [near field] -> compose. The Topology method renders on the CPU instead
 // (cpu::TopologyRenderer).
 #pragma once
 
@@ -23,6 +23,7 @@
 #include "passes/direct/traced_direct_pass.h"
 #include "passes/flc/flc_pass.h"
 #include "passes/gbuffer/gbuffer_pass.h"
+#include "passes/near_field/near_field_pass.h"
 #include "passes/shadows/shadow_pass.h"
 #include "passes/ssvp/ssvp_pass.h"
 #include "passes/topology_visibility/topology_visibility_pass.h"
@@ -70,6 +71,7 @@ class Renderer {
   cpu::TopologyCache flc_topologies_{true};  // Forward Light Cuts' Indirect Shadows
   TopologyVisibilityPass topology_visibility_;
   SsvpPass ssvp_;
+  NearFieldPass near_field_;
   ComposePass compose_;
   cpu::TopologyRenderer topology_{cpu_scene_};
   struct AnalysisKey {

@@ -39,6 +39,8 @@ const char* stage_name(Stage stage) {
       return "SSVP shading";
     case Stage::SsvpDenoise:
       return "SSVP denoise";
+    case Stage::NearField:
+      return "Near field";
     case Stage::TopologyPrecompute:
       return "Topology Precompute";
     case Stage::TopologyVpls:

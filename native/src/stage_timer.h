@@ -27,6 +27,7 @@ enum class Stage {
   SsvpParaboloids,     // one paraboloid map per cluster
   SsvpShade,           // interleaved shading of both bounces, debug view
   SsvpDenoise,         // geometry-aware blur
+  NearField,           // the light the VPLs' distance clamp takes, from the G-buffer (FLC, SSVP)
   TopologyPrecompute,  // the topology of the empty space (cached: only the first render of a scene)
   TopologyVpls,        // VPL paths from the lights (CPU, Embree)
   TopologyPrimary,     // primary rays and the view samples' visibility clusters

@@ -15,6 +15,7 @@
 #include "common/parallel.h"
 #include "cpu/camera_ray.h"
 #include "cpu/direct_light.h"
+#include "cpu/near_field.h"
 #include "cpu/random.h"
 #include "radiometry.h"
 #include "sample_schedule.h"
@@ -242,26 +243,6 @@ void draw_topology_pass(const topology::Topology& topo, const BounceSettings& se
       image[i] = colour;
     }
   });
-}
-
-// What the Distance Clamp takes from the first bounce, given back by a ray (bias compensation, Kollig and Keller,
-// "Illumination in the Presence of Weak Singularities", 2006). A VPL at distance d < c lights x as if it stood at
-// c, so the VPLs miss E(x) - E_c(x) = the integral over directions of L(w) cos (1 - d^2 / c^2): one cosine-drawn
-// ray from x up to c, and where it meets a surface y, pi times y's reflected direct light times (1 - d^2 / c^2).
-// Light next to a lit surface (a column's foot, a corner by a sunlit floor) came out dark without it: Sponza's
-// first bounce with shadow rays was 0.943 of Cycles (0.884 in the right third), 1.013 with it. The second
-// bounce's share of that light (y's own indirect light) is not given back.
-glm::vec3 near_field_irradiance(const CpuScene& scene, const Surface& x, std::span<const BounceLight> lights,
-                                const ShadowRays& rays, const WorldStrategies& world, float clamp, Rng& rng) {
-  const float u1 = rng.next(), u2 = rng.next();
-  const glm::vec3 direction = cosine_direction(x.shading_normal, u1, u2);
-  if (!(glm::dot(direction, x.normal) > 0.0f)) return glm::vec3(0.0f);
-  const auto hit = scene.intersect(x.position + x.normal * scene.ray_offset(), direction, 0.0f, clamp);
-  if (!hit) return glm::vec3(0.0f);
-  const Surface y = scene.surface(*hit, direction);
-  const float d = hit->t / clamp;
-  // pi times y's radiance, albedo / pi times its direct irradiance
-  return y.albedo * direct_irradiance(lights, y.position, y.shading_normal, rays, rng, &world) * (1.0f - d * d);
 }
 
 }  // namespace

@@ -26,6 +26,7 @@ class ComposePass {
     bool times_albedo = false;
     GLuint vpls = 0;           // debug view
     GLuint second_bounce = 0;  // irradiance / pi
+    GLuint near_field = 0;     // irradiance / pi of the first bounce, added to `light` (NearFieldPass)
   };
   void accumulate(int slot, const RenderContext& context, const GBuffer& gbuffer, GLuint direct,
                   const Indirect& indirect);

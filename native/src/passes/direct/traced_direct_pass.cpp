@@ -4,6 +4,7 @@
 
 #include "common/parallel.h"
 #include "cpu/direct_light.h"
+#include "cpu/near_field.h"
 #include "cpu/random.h"
 #include "error.h"
 #include "radiometry.h"
@@ -11,45 +12,71 @@
 namespace bounce {
 namespace {
 
-constexpr uint64_t kTracedDirect = 31;  // random stream of the shadow rays
+constexpr uint64_t kTracedDirect = 31;  // random streams of the shadow rays and the near field's rays
+constexpr uint64_t kNearField = 32;
 
 }  // namespace
 
 void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, const cpu::CpuScene& scene,
-                               const SceneLights& scene_lights) {
-  StageScope scope(context.timer, Stage::TracedDirect);
+                               const SceneLights& scene_lights, float near_field_clamp) {
   const int width = context.width, height = context.height;
-  if (width_ != width || height_ != height) {
-    direct_ = gl::make_texture_2d(GL_RGBA32F, width, height);
-    width_ = width;
-    height_ = height;
-  }
   const std::size_t pixels = std::size_t(width) * std::size_t(height);
-  const auto* texels = reinterpret_cast<const glm::vec4*>(gbuffer_readback_.read(
-      {{gbuffer.position.id(), 4}, {gbuffer.normal.id(), 4}, {gbuffer.albedo.id(), 4}}, width, height));
-  const glm::vec4 *position = texels, *normal = texels + pixels, *albedo = texels + 2 * pixels;
-  light_.assign(pixels, glm::vec4(0.0f));
   const auto& lights = context.lights;
   // Shadow rays leave from the surface pushed along the shading normal (on the geometric normal's side, so off
   // the surface); the light itself is evaluated at the surface point, as the rasterizer does.
   const cpu::ShadowRays rays{scene.bvh(), scene.ray_offset(), 1, scene.opaque(), context.settings.shadow_softness};
   const cpu::WorldStrategies world{scene_lights, context.settings.world_lights};
-  if (!lights.empty() && scene.triangle_count() > 0) {
+  const glm::vec4 *position = nullptr, *normal = nullptr, *albedo = nullptr, *geometric_normal = nullptr;
+  // Calls light(i, x, rng) for each covered pixel i, with its surface x and one random stream per image pixel,
+  // sample and `stream`: tiles and the untiled image draw the same rays.
+  const auto each_pixel = [&](std::vector<glm::vec4>& out, uint64_t stream, const auto& light) {
+    out.assign(pixels, glm::vec4(0.0f));
+    if (lights.empty() || scene.triangle_count() == 0) return;
     parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
       for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {
         if (albedo[i].a == 0.0f) continue;
-        const glm::vec3 n = glm::normalize(glm::vec3(normal[i])), y = glm::vec3(position[i]);
-        // One stream per image pixel and sample: tiles and the untiled image draw the same rays.
+        const cpu::Surface x{glm::vec3(position[i]),
+                             glm::normalize(glm::vec3(geometric_normal[i])),
+                             glm::normalize(glm::vec3(normal[i])),
+                             glm::vec3(albedo[i]),
+                             {}};
         const uint64_t pixel = (uint64_t(uint32_t(context.tile_origin.y) + uint32_t(row)) << 32) |
                                uint32_t(context.tile_origin.x + int(i - row * std::size_t(width)));
-        cpu::Rng rng(context.seed, kTracedDirect ^ (uint64_t(context.sample) << 8), pixel);
-        const glm::vec3 e = cpu::direct_irradiance(lights, y, n, rays, rng, &world);
-        light_[i] = glm::vec4(glm::vec3(albedo[i]) / kPi * e, 0.0f);
+        cpu::Rng rng(context.seed, stream ^ (uint64_t(context.sample) << 8), pixel);
+        out[i] = glm::vec4(light(x, rng), 0.0f);
       }
     });
+  };
+  {
+    StageScope scope(context.timer, Stage::TracedDirect);
+    if (width_ != width || height_ != height) {
+      direct_ = gl::make_texture_2d(GL_RGBA32F, width, height);
+      near_field_ = gl::make_texture_2d(GL_RGBA32F, width, height);
+      width_ = width;
+      height_ = height;
+    }
+    const auto* texels = reinterpret_cast<const glm::vec4*>(gbuffer_readback_.read({{gbuffer.position.id(), 4},
+                                                                                    {gbuffer.normal.id(), 4},
+                                                                                    {gbuffer.albedo.id(), 4},
+                                                                                    {gbuffer.geometric_normal.id(), 4}},
+                                                                                   width, height));
+    position = texels;
+    normal = texels + pixels;
+    albedo = texels + 2 * pixels;
+    geometric_normal = texels + 3 * pixels;
+    each_pixel(light_, kTracedDirect, [&](const cpu::Surface& x, cpu::Rng& rng) {
+      return x.albedo / kPi * cpu::direct_irradiance(lights, x.position, x.shading_normal, rays, rng, &world);
+    });
+    glTextureSubImage2D(direct_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, light_.data());
+  }
+  if (near_field_clamp > 0.0f) {
+    StageScope scope(context.timer, Stage::NearField);
+    each_pixel(near_light_, kNearField, [&](const cpu::Surface& x, cpu::Rng& rng) {
+      return cpu::near_field_irradiance(scene, x, lights, rays, world, near_field_clamp, rng) / kPi;
+    });
+    glTextureSubImage2D(near_field_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, near_light_.data());
   }
   gbuffer_readback_.release();
-  glTextureSubImage2D(direct_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, light_.data());
   gl::check("uploading the ray-traced direct light");
 }
 

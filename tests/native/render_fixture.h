@@ -126,6 +126,16 @@ class RenderFixture : public ::testing::Test {
     const glm::mat4 projection = glm::ortho(-half, half, -half, half, 1.0f, 200.0f);
     set_camera(view, projection, size, size);
   }
+  // The only light: a sun of 5 W/m^2 in the direction `towards` (from the scene towards the sun).
+  void set_sun(glm::vec3 towards) {
+    BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(5.0f));
+    towards = glm::normalize(towards);
+    const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards)), y = glm::cross(towards, x);
+    std::memcpy(sun.axis_z, &towards[0], 12);
+    std::memcpy(sun.axis_x, &x[0], 12);
+    std::memcpy(sun.axis_y, &y[0], 12);
+    set_lights({sun});
+  }
   void set_camera(const glm::mat4& view, const glm::mat4& projection, int width, int height) {
     camera_ = BounceCamera{};
     std::memcpy(camera_.world_to_view, glm::value_ptr(view), 64);

@@ -277,16 +277,6 @@ class Ssvp : public RenderFixture {
     const glm::mat4 view = glm::lookAt(glm::vec3(0, -2.2f * size, 0), glm::vec3(0), glm::vec3(0, 0, 1));
     set_camera(view, glm::perspective(glm::radians(40.0f), 1.0f, 0.01f * size, 10.0f * size), 32, 32);
   }
-  // The only light: a sun of 5 W/m^2 in the direction `towards` (from the scene towards the sun).
-  void set_sun(glm::vec3 towards) {
-    BounceLight sun = make_light(BOUNCE_LIGHT_SUN, {0, 0, 10}, glm::vec3(5.0f));
-    towards = glm::normalize(towards);
-    const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), towards)), y = glm::cross(towards, x);
-    std::memcpy(sun.axis_z, &towards[0], 12);
-    std::memcpy(sun.axis_x, &x[0], 12);
-    std::memcpy(sun.axis_y, &y[0], 12);
-    set_lights({sun});
-  }
   // The reference for SSVP's bounces: the mean of `aov` rendered by the Topology method with exact shadow rays
   // for `vpls` VPLs. Leaves the method at SSVP.
   double ray_traced_vpls(int vpls, int aov) {
@@ -553,10 +543,7 @@ TEST_F(Ssvp, VplImportanceFindsTheRoomASunShinesInto) {
 // the paper's propagation (Sec. II-B) misses: 0.68 of Cycles' on the budget's sunlit interior. Traced, and each
 // shadowed by its own cluster's map, at the default settings: within 15 % of ray-traced VPLs (1.05 here).
 TEST_F(Ssvp, SecondBounceOfARoomLitThroughBlinds) {
-  Soup soup = room_with_window();
-  for (float z = kWindowLo.z + 0.1f; z < kWindowHi.z; z += 0.15f)
-    soup.box({kWindowLo.x, -0.1f, z}, {kWindowHi.x, 0.0f, z + 0.03f});
-  add_soup(1, soup.vertices);
+  add_soup(1, room_with_window(true).vertices);
   set_instances({1}, {glm::mat4(1.0f)});
   set_albedo(0.7f);
   set_sun(glm::vec3(0.3f, -0.8f, 0.7f));

@@ -12,8 +12,8 @@
 namespace bounce {
 namespace {
 
-constexpr uint64_t kTracedDirect = 31;  // random streams of the shadow rays and the near field's rays
-constexpr uint64_t kNearField = 32;
+constexpr uint64_t kTracedDirect = 31;  // random stream of the shadow rays
+constexpr uint64_t kNearField = 32;     // of the near field's rays
 
 }  // namespace
 
@@ -27,8 +27,8 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
   const cpu::ShadowRays rays{scene.bvh(), scene.ray_offset(), 1, scene.opaque(), context.settings.shadow_softness};
   const cpu::WorldStrategies world{scene_lights, context.settings.world_lights};
   const glm::vec4 *position = nullptr, *normal = nullptr, *albedo = nullptr, *geometric_normal = nullptr;
-  // Calls light(i, x, rng) for each covered pixel i, with its surface x and one random stream per image pixel,
-  // sample and `stream`: tiles and the untiled image draw the same rays.
+  // Sets out[i] to light(x, rng) for each covered pixel i, with its surface x and one random stream per image
+  // pixel, sample and `stream`: tiles and the untiled image draw the same rays.
   const auto each_pixel = [&](std::vector<glm::vec4>& out, uint64_t stream, const auto& light) {
     out.assign(pixels, glm::vec4(0.0f));
     if (lights.empty() || scene.triangle_count() == 0) return;

@@ -4,8 +4,9 @@
 //     L_direct(y) (1 - d^2 / c^2) cos(theta_x) dw.
 // Each pixel draws RAYS cosine-distributed directions, marches each one through the G-buffer up to c, and where
 // it passes behind a visible surface y that faces it at a distance d < c, adds L_direct(y) (1 - d^2 / c^2): with
-// the pdf cos / pi, the estimate of that integral over pi. The Direct target holds L_direct (albedo / pi * E). Surfaces
-// hidden from the camera or outside the tile give nothing back, as the clamp did.
+// the pdf cos / pi, the estimate of that integral over pi. The Direct target holds L_direct (albedo / pi * E).
+// Surfaces hidden from the camera or outside the tile give nothing back, as the clamp did; with Ray Traced shadows
+// Embree traces the same ray instead (cpu/near_field.h).
 #include "common/random.glsl"
 
 layout(binding = 1) uniform sampler2D g_albedo;

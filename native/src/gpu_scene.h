@@ -65,6 +65,8 @@ class GpuScene {
   uint64_t world_version() const { return world_version_; }
   glm::vec3 bounds_min() const { return bounds_min_; }
   glm::vec3 bounds_max() const { return bounds_max_; }
+  // Half the bounding box's diagonal: the length that settings given as a fraction of the scene scale by.
+  float radius() const { return 0.5f * glm::length(bounds_max_ - bounds_min_); }
   bool has_geometry() const { return !batches_.empty(); }
 
   // The drawn geometry for CPU renderers, after prepare(): each drawn instance's submeshes with their materials.

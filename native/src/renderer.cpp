@@ -184,8 +184,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   const bool traced_direct = plan.direct == FramePlan::Direct::RayTraced;
   const bool flc_visibility = flc && plan.indirect_shadows;
   if (plan.needs_cpu_scene()) cpu_scene_.sync(scene_);
-  const float near_field_clamp =
-      plan.near_field_clamp * 0.5f * glm::length(scene_.bounds_max() - scene_.bounds_min());  // metres
+  const float near_field_clamp = plan.near_field_clamp * scene_.radius();  // metres
   if (flc_visibility) {
     const std::shared_ptr<const topology::Topology> before = flc_topologies_.latest();
     std::shared_ptr<const topology::Topology> topology;

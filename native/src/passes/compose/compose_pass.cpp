@@ -63,7 +63,7 @@ void ComposePass::accumulate(int slot, const RenderContext& context, const GBuff
   glUniform2f(7, float(context.width), float(context.height));
   glUniform1i(2, indirect.light != 0);
   glUniform1i(3, indirect.times_albedo ? 1 : 0);
-  glUniform1i(8, indirect.light != 0 && indirect.near_field != 0);
+  glUniform1i(8, indirect.near_field != 0);
   glEnable(GL_BLEND);
   for (GLuint aov = 0; aov < kComposedAovs; ++aov) {
     glBlendFunci(aov, GL_ONE, GL_ONE);

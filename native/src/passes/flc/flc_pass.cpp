@@ -101,8 +101,7 @@ FlcPass::FlcPass()
 
 void FlcPass::generate(const RenderContext& context) {
   vpl_count_ = divergent_count_ = 0;
-  const glm::vec3 extent = context.scene.bounds_max() - context.scene.bounds_min();
-  const float scene_radius = 0.5f * glm::length(extent);
+  const float scene_radius = context.scene.radius();
   if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
   params_ = make_flc_params(context.settings, scene_radius, context.seed, context.sample);
   params_.max_tess_level = max_tess_level_;

@@ -354,7 +354,7 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   main_light_ = -1;
   clusters_.clear();
   const glm::vec3 lo = context.scene.bounds_min(), hi = context.scene.bounds_max();
-  const float scene_radius = 0.5f * glm::length(hi - lo);
+  const float scene_radius = context.scene.radius();
   if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
   const auto& lights = context.lights;
   // Sample 0 draws with no rotation, as it keeps one Hammersley set: a still scene gives the same frame again.

@@ -93,4 +93,20 @@ Occluders estimate_occluders(const Topology& topology, std::span<const glm::vec3
   return occluders;
 }
 
+float unoccluded(const Occluders& occluders, const GridShape& shape, glm::vec3 p, glm::vec3 x) {
+  if (occluders.slot.empty()) return 1.0f;
+  const glm::ivec3 v = shape.voxel_at(glm::dvec3(x));
+  if (!shape.inside(v)) return 1.0f;
+  const uint32_t slot = occluders.slot[shape.index(v)];
+  const glm::vec3 offset = p - x;
+  const float distance = glm::length(offset);
+  if (slot == 0 || !(distance > 0.0f)) return 1.0f;
+  const Occluders::Hit& hit =
+      occluders
+          .hits[std::size_t(slot - 1) * kPassageBins + std::size_t(shared::topology_passage_bin(offset / distance))];
+  if (!std::isfinite(hit.distance) || !shared::behind_occluder(hit.normal, hit.plane, offset, float(shape.voxel_size)))
+    return 1.0f;
+  return 1.0f - hit.share;
+}
+
 }  // namespace bounce::topology

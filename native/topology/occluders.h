@@ -1,8 +1,9 @@
 // Occluders inside a cluster. The topology method counts every light of a receiver's own cluster without a test
 // (a visibility cluster is a region of the empty space whose points mostly see each other, Noel and Biri 2014,
 // Sec. IV.B), so blocks in a room and the piers of a gallery cast no indirect shadow: the Cornell box's first
-// bounce is 1.08 of Cycles' with the Topology method and FLC's Indirect Shadows alike. A renderer without a ray per
-// light (FLC on the GPU) looks up instead, per surface voxel and direction bin (topology_passage_bin), the surface
+// bounce was 1.08 of Cycles' with the Topology method and FLC's Indirect Shadows alike. Both look up instead of a
+// ray per light and receiver (FLC on the GPU has none; the Topology method keeps its rays for clusters the gates do
+// not join), per surface voxel and direction bin (topology_passage_bin), the surface
 // rays from the voxel's surface along the bin meet first, found once per topology with the ray tracer: a light
 // behind that surface's plane is hidden, from the share of the bin's rays that meet it (a pier covering half a
 // bin hides half of what is behind it). The plane, not the distance, decides, because the distance to a concave
@@ -36,6 +37,13 @@ struct Occluders {
   };
   std::vector<Hit> hits;
 };
+
+struct GridShape;
+
+// The share of a light at p that the surfaces inside the receiver x's cell leave to x: 1 unless the surface that
+// stands for the bin of p - x has p behind its plane (behind_occluder), then 1 - its share. The GPU's
+// topology_unoccluded (shaders/topology_visibility/visibility.glsl) with the hit unpacked.
+float unoccluded(const Occluders& occluders, const GridShape& shape, glm::vec3 p, glm::vec3 x);
 
 // The first surface along a ray: its distance (infinity when none) and unit geometric normal (the counter-clockwise
 // front's, whichever side the ray meets).

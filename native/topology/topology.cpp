@@ -114,9 +114,14 @@ constexpr float kStart[] = {0.0f, 0.1f, 0.2f, 0.9f, 0.95f, 0.98f, 1.0f};
 
 void estimate_from_rays(Topology& t, std::span<const glm::vec3> soup, const RayQueries& rays,
                         const CancelCheck& cancelled) {
-  t.passages = estimate_passages(t, soup, rays.clear, cancelled);
-  t.occluders = estimate_occluders(t, soup, rays.first_hit, cancelled);
-  t.ray_estimated = rays.clear && rays.first_hit;
+  if (rays.clear && !t.passages_estimated) {
+    t.passages = estimate_passages(t, soup, rays.clear, cancelled);
+    t.passages_estimated = true;
+  }
+  if (rays.first_hit && !t.occluders_estimated) {
+    t.occluders = estimate_occluders(t, soup, rays.first_hit, cancelled);
+    t.occluders_estimated = true;
+  }
 }
 
 }  // namespace

@@ -49,7 +49,8 @@ struct Topology {
   // Inside a cluster: per surface cell and direction bin, the surface that rays meet first (estimate_occluders;
   // occluders.h). Empty when not estimated.
   Occluders occluders;
-  bool ray_estimated = false;          // whether passages and occluders were estimated (they may still be empty)
+  bool passages_estimated = false;  // whether they were estimated (they may still be empty)
+  bool occluders_estimated = false;
   std::vector<uint32_t> node_cluster;  // per original skeleton node (node_clusters)
   std::array<double, size_t(BuildStage::Count)> stage_ms{};
 
@@ -75,7 +76,8 @@ struct Topology {
   std::string summary() const;
 };
 
-// A ray tracer's answers, for the estimates made from rays: passages (passages.h) and occluders (occluders.h).
+// A ray tracer's answers, for the estimates made from rays: passages (passages.h) from `clear`, occluders
+// (occluders.h) from `first_hit`; each estimate is made when its query is given.
 struct RayQueries {
   SegmentClear clear;
   FirstHit first_hit;
@@ -83,12 +85,12 @@ struct RayQueries {
 
 // The whole precomputation for the triangle soup (vertices 3i, 3i + 1, 3i + 2), in world space. Settings out of
 // range are clamped (resolution to [1, kMaxResolution], alpha to [0, 1]). With a ray tracer's queries, the
-// passages and the occluders too, in the Gates stage. Throws Cancelled.
+// estimates they serve too, in the Gates stage. Throws Cancelled.
 Topology build(std::span<const glm::vec3> soup, const Settings& settings, const Progress& progress = {},
                const RayQueries& rays = {});
-// `base`, built from the same soup without a ray tracer, with the passages and the occluders estimated from its
-// queries: what build() with them returns, without building the rest again (Forward Light Cuts needs them, the
-// Topology method does not, and a scene rendered with both keeps one topology). Throws Cancelled.
+// `base`, built from the same soup, with the estimates it lacks made from the queries given: what build() with
+// them returns, without building the rest again (Forward Light Cuts needs passages and occluders, the Topology
+// method occluders only, and a scene rendered with both keeps one topology). Throws Cancelled.
 Topology with_ray_estimates(Topology base, std::span<const glm::vec3> soup, const RayQueries& rays,
                             const Progress& progress = {});
 

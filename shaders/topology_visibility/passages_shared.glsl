@@ -48,3 +48,10 @@ PASSAGES_INLINE vec3 topology_passage_bin_direction(int bin, float s, float t) {
   return direction_from_octahedral(vec2((float(bin % n) + s) / float(n) * 2.0f - 1.0f,
                                         (float(bin / n) + t) / float(n) * 2.0f - 1.0f));
 }
+
+// Whether a light at `offset` from a receiver (the light's position less the receiver's) lies behind the plane of
+// the surface that stands for its direction bin inside the receiver's cell (topology::Occluders::Hit's normal and
+// plane) by more than two voxels, the distance the cell's surface point and the receiver may lie apart.
+PASSAGES_INLINE bool behind_occluder(vec3 normal, float plane, vec3 offset, float voxel) {
+  return dot(normal, offset) < plane - 2.0f * voxel;
+}

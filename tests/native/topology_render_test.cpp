@@ -97,8 +97,8 @@ TEST_F(TopologyRender, CachedAcrossRendersAndLightMoves) {
 }
 
 // Forward Light Cuts' Indirect Shadows need the passages and occluders estimated from rays, the Topology method
-// does not: a scene rendered with both builds its topology once and FLC adds the estimates to it (each renderer
-// built its own before, the skeleton and clusters twice).
+// the occluders only: a scene rendered with both builds its topology once and FLC adds the passages to it (each
+// renderer built its own before, the skeleton and clusters twice).
 TEST_F(TopologyRender, SharedWithForwardLightCuts) {
   build_two_rooms();
   settings_.topology_alpha = 0.27f;  // a topology no other test has put in the cache
@@ -113,11 +113,6 @@ TEST_F(TopologyRender, SharedWithForwardLightCuts) {
   EXPECT_EQ(topology_info().builds, builds);
 }
 
-// The Distance Clamp bounds a VPL's light next to a receiver; a ray from the receiver gives back what it takes
-// (near_field_irradiance). A wall standing on a floor lit from straight above gets its light from the floor,
-// most of it, at the wall's foot, from within the clamp: the wall's first bounce must not depend on the clamp.
-// Without the ray, a clamp of 0.1 of the scene radius left the wall's foot 0.894 of what a clamp of 0.002 gives
-// (0.990 with it).
 TEST_F(TopologyRender, DeterministicUnderASeed) {
   build_two_rooms();
   settings_.samples = 2;

@@ -52,7 +52,7 @@ std::shared_ptr<const topology::Topology> TopologyCache::get(const CpuScene& sce
   // The cache's first: another renderer may have added the estimates to the one this object holds.
   std::shared_ptr<const topology::Topology> found = cached(key);
   if (!found && topology_ && key == key_) found = topology_;
-  if (found && (found->ray_estimated || !with_ray_estimates_)) {
+  if (found && found->occluders_estimated && (found->passages_estimated || !with_passages_)) {
     if (found != topology_) topology_ = std::move(found), key_ = key;
     return topology_;
   }
@@ -62,15 +62,12 @@ std::shared_ptr<const topology::Topology> TopologyCache::get(const CpuScene& sce
     callbacks.status(stage_text.c_str(), 0.5f * fraction);
     return !callbacks.cancelled();
   };
-  const topology::RayQueries rays =
-      with_ray_estimates_
-          ? topology::RayQueries{
-                [&scene](glm::vec3 from, glm::vec3 to) { return scene.clear_between(from, to); },
-                [&scene](glm::vec3 origin, glm::vec3 direction) {
-                  const auto hit = scene.intersect(origin, direction, 0.0f, std::numeric_limits<float>::infinity());
-                  return hit ? topology::Occluders::Hit{hit->t, hit->normal} : topology::Occluders::Hit{};
-                }}
-          : topology::RayQueries{};
+  topology::RayQueries rays{{}, [&scene](glm::vec3 origin, glm::vec3 direction) {
+                              const auto hit =
+                                  scene.intersect(origin, direction, 0.0f, std::numeric_limits<float>::infinity());
+                              return hit ? topology::Occluders::Hit{hit->t, hit->normal} : topology::Occluders::Hit{};
+                            }};
+  if (with_passages_) rays.clear = [&scene](glm::vec3 from, glm::vec3 to) { return scene.clear_between(from, to); };
   try {
     if (found) {
       topology_ =

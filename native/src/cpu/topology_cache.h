@@ -16,11 +16,12 @@ namespace bounce::cpu {
 
 class TopologyCache {
  public:
-  // with_ray_estimates: estimate from rays the light through openings narrower than a voxel
-  // (topology/passages.h) and the occluders inside clusters (topology/occluders.h) too, for a renderer without a
-  // ray per light; the Topology method casts shadow rays instead. Both kinds share one entry per scene: the
-  // estimates are added to a cached topology that lacks them, and a cache without the need takes either.
-  explicit TopologyCache(bool with_ray_estimates) : with_ray_estimates_(with_ray_estimates) {}
+  // Every topology comes with the occluders inside clusters (topology/occluders.h), estimated from rays;
+  // with_passages: the light through openings narrower than a voxel (topology/passages.h) too, for a renderer
+  // without a ray per light (FLC; between clusters the gates do not join the Topology method casts shadow rays).
+  // The methods share one entry per scene: the passages are added to a cached topology that lacks them, and a
+  // cache without the need takes either.
+  explicit TopologyCache(bool with_passages) : with_passages_(with_passages) {}
   // The topology of `scene` (synced) for settings.topology_resolution and topology_alpha: the process-wide
   // cache's, else this object's own when still valid, else built (or its ray estimates added), with its stages
   // reported through callbacks.status over the first half of the progress bar. nullptr when cancelled.
@@ -31,7 +32,7 @@ class TopologyCache {
  private:
   std::shared_ptr<const topology::Topology> topology_;
   uint64_t key_ = 0;
-  bool with_ray_estimates_;
+  bool with_passages_;
 };
 
 // How many topologies the process-wide cache has built (bounce_topology_info).

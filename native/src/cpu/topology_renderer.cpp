@@ -92,7 +92,7 @@ bool reaches(const topology::Topology& topo, const ClusterGraph& graph, uint32_t
 
 // How the method's visibility decides whether a VPL in cluster `from` lights a point in cluster `to`.
 enum class Test : uint8_t {
-  kNone,       // no test: the same cluster, or no indirect visibility at all
+  kNone,       // the same cluster (the occluders inside it), or no indirect visibility at all
   kGates,      // reaches(): the segment must cross gates into the point's cluster
   kShadowRay,  // a shadow ray: the Shadow Rays mode, and where the topology cannot tell (below)
   kDark,       // never: the VPL is walled in (it has no cluster)
@@ -274,6 +274,7 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
   // image). Measured under the clusters' rule in every mode, as before, the Shadow Rays mode drew the light that
   // the rule loses (through blinds) only through the defensive share, and lost 18 % of a sunlit room's.
   const topology::Topology& topo = *topologies_.latest();
+  const bool clusters_and_gates = settings.topology_visibility == 0;
   const float clamp = settings.topology_distance_clamp * scene_.radius();
   const float offset = scene_.ray_offset();
   std::vector<float> importance(candidates.size(), 0.0f);
@@ -284,7 +285,8 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
     for (const Probe& probe : probes) {
       const glm::vec3 light = probe.albedo * vpl_irradiance(vpl, probe.position, probe.normal, clamp);
       if (!(light.r + light.g + light.b > 0.0f)) continue;
-      switch (visibility_test(settings.topology_visibility, topo, candidate_cluster[i], probe.cluster)) {
+      const Test test = visibility_test(settings.topology_visibility, topo, candidate_cluster[i], probe.cluster);
+      switch (test) {
         case Test::kDark:
           continue;
         case Test::kGates:
@@ -298,7 +300,10 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
         case Test::kNone:
           break;
       }
-      sum += double(light.r + light.g + light.b);
+      const float share = clusters_and_gates && test == Test::kNone
+                              ? topology::unoccluded(topo.occluders, topo.grid.shape, vpl.position, probe.position)
+                              : 1.0f;
+      sum += double(share * (light.r + light.g + light.b));
     }
     importance[i] = float(sum);
   });
@@ -537,7 +542,9 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
                                                      std::span(group.gates).subspan(a.first_gate, a.first_gates)))
                 continue;
               if (a.test == Test::kShadowRay && blocked(vpl)) continue;
-              add(vpl, e);
+              const float share =
+                  a.test == Test::kNone ? topology::unoccluded(topo.occluders, topo.grid.shape, vpl.position, x) : 1.0f;
+              add(vpl, share * e);
             }
           } else {
             const bool shadow_rays = settings.topology_visibility == 1;

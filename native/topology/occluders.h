@@ -40,10 +40,14 @@ struct Occluders {
 
 struct GridShape;
 
-// The share of a light at p that the surfaces inside the receiver x's cell leave to x: 1 unless the surface that
-// stands for the bin of p - x has p behind its plane (behind_occluder), then 1 - its share. The GPU's
-// topology_unoccluded (shaders/topology_visibility/visibility.glsl) with the hit unpacked.
-float unoccluded(const Occluders& occluders, const GridShape& shape, glm::vec3 p, glm::vec3 x);
+// The hits of the cell holding a receiver at x, one per direction bin; empty where the cell holds no surface or x
+// lies outside the grid. Looked up once per receiver, for all its lights.
+std::span<const Occluders::Hit> cell_hits(const Occluders& occluders, const GridShape& shape, glm::vec3 x);
+// The share of a light at `offset` from a receiver (the light's position less the receiver's) that the surfaces of
+// the receiver's cell (cell_hits) leave to it: 1 unless the surface that stands for the offset's bin has the light
+// behind its plane (behind_occluder), then 1 - its share. The GPU's topology_unoccluded
+// (shaders/topology_visibility/visibility.glsl) with the hit unpacked.
+float unoccluded(std::span<const Occluders::Hit> hits, glm::vec3 offset, float voxel);
 
 // The first surface along a ray: its distance (infinity when none) and unit geometric normal (the counter-clockwise
 // front's, whichever side the ray meets).

@@ -275,6 +275,7 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
   // the rule loses (through blinds) only through the defensive share, and lost 18 % of a sunlit room's.
   const topology::Topology& topo = *topologies_.latest();
   const bool clusters_and_gates = settings.topology_visibility == 0;
+  const auto voxel = float(topo.grid.shape.voxel_size);
   const float clamp = settings.topology_distance_clamp * scene_.radius();
   const float offset = scene_.ray_offset();
   std::vector<float> importance(candidates.size(), 0.0f);
@@ -301,7 +302,7 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
           break;
       }
       const float share = clusters_and_gates && test == Test::kNone
-                              ? topology::unoccluded(topo.occluders, topo.grid.shape, vpl.position, probe.position)
+                              ? topology::unoccluded(probe.occluder_hits, vpl.position - probe.position, voxel)
                               : 1.0f;
       sum += double(share * (light.r + light.g + light.b));
     }
@@ -437,7 +438,9 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
           const int column = std::min(width - 1, int((px + rng.next()) * float(width) / kProbesPerAxis));
           const int row = std::min(height - 1, int((py + rng.next()) * float(height) / kProbesPerAxis));
           const ViewSample& v = view[std::size_t(row) * std::size_t(width) + std::size_t(column)];
-          if (v.hit) probes.push_back({v.surface.position, v.surface.shading_normal, v.surface.albedo, v.cluster});
+          if (v.hit)
+            probes.push_back({v.surface.position, v.surface.shading_normal, v.surface.albedo, v.cluster,
+                              topology::cell_hits(topo.occluders, topo.grid.shape, v.surface.position)});
         }
       prepare_vpls(lights, settings, mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
     }
@@ -533,6 +536,8 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
           if (clusters_and_gates) {
             if (group_of[i] == kNoNode) continue;
             const GroupLights& group = assigned[group_of[i]];
+            const auto occluder_hits = topology::cell_hits(topo.occluders, topo.grid.shape, x);
+            const auto voxel = float(topo.grid.shape.voxel_size);
             for (const Assignment& a : group.lights) {
               const Vpl& vpl = vpls_[a.vpl];
               const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
@@ -543,7 +548,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
                 continue;
               if (a.test == Test::kShadowRay && blocked(vpl)) continue;
               const float share =
-                  a.test == Test::kNone ? topology::unoccluded(topo.occluders, topo.grid.shape, vpl.position, x) : 1.0f;
+                  a.test == Test::kNone ? topology::unoccluded(occluder_hits, vpl.position - x, voxel) : 1.0f;
               add(vpl, share * e);
             }
           } else {

@@ -40,6 +40,7 @@ class TopologyRenderer {
   struct Probe {
     glm::vec3 position, normal, albedo;
     uint32_t cluster;
+    std::span<const topology::Occluders::Hit> occluder_hits;  // of its cell (topology::cell_hits)
   };
   void prepare_vpls(std::span<const BounceLight> lights, const BounceSettings& settings, uint64_t seed,
                     std::span<const Probe> probes, const ClusterGraph& graph);

@@ -88,9 +88,9 @@ bool CpuScene::occluded(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax)
   return bvh_->occluded(origin, dir, tmin, tmax, opaque_);
 }
 
-bool CpuScene::clear_between(glm::vec3 from, glm::vec3 to, float end_gap) const {
+bool CpuScene::clear_between(glm::vec3 from, glm::vec3 to) const {
   const float distance = glm::length(to - from);
-  return !(distance > end_gap) || !occluded(from, (to - from) / distance, 0.0f, distance - end_gap);
+  return !(distance > 0.0f) || !occluded(from, (to - from) / distance, 0.0f, distance);
 }
 
 bool CpuScene::has_surface(const embree::Hit& hit) const {

@@ -40,9 +40,10 @@ class CpuScene {
   // every triangle (soup()).
   std::optional<embree::Hit> intersect(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) const;
   bool occluded(glm::vec3 origin, glm::vec3 dir, float tmin, float tmax) const;
-  // Whether nothing lies on the segment from `from` to `to`, short of its last `end_gap` (the callers lift both
-  // ends off their surfaces; points closer than end_gap see each other).
-  bool clear_between(glm::vec3 from, glm::vec3 to, float end_gap = 0.0f) const;
+  // Whether nothing lies on the segment from `from` to `to`, to its very end: the callers lift both ends off their
+  // surfaces. (Stopping a lift short of the end let a VPL in the corner of a sealed block light the room through
+  // the block's other face.)
+  bool clear_between(glm::vec3 from, glm::vec3 to) const;
   const embree::Scene::HitFilter& opaque() const { return opaque_; }  // empty without cut-outs
   std::span<const glm::vec3> soup() const { return positions_; }      // three corners per triangle
   std::size_t triangle_count() const { return positions_.size() / 3; }

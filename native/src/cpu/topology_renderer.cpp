@@ -294,7 +294,7 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
           if (!reaches(topo, graph, candidate_cluster[i], vpl.position, probe.cluster, probe.position)) continue;
           break;
         case Test::kShadowRay:
-          if (!scene_.clear_between(vpl.position + vpl.normal * offset, probe.position + probe.normal * offset, offset))
+          if (!scene_.clear_between(vpl.position + vpl.normal * offset, probe.position + probe.normal * offset))
             continue;
           lit_by_ray[i] = 1;
           break;
@@ -531,7 +531,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
             if (vpl.bounce == 2) second_irradiance += e;
           };
           const auto blocked = [&](const Vpl& vpl) {
-            return !scene_.clear_between(x + v.surface.normal * offset, vpl.position + vpl.normal * offset, offset);
+            return !scene_.clear_between(x + v.surface.normal * offset, vpl.position + vpl.normal * offset);
           };
           if (clusters_and_gates) {
             if (group_of[i] == kNoNode) continue;

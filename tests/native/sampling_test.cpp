@@ -92,6 +92,39 @@ TEST(Resample, LargestOffsetDrawsOnlyDrawableCandidates) {
       }
 }
 
+// A guided emission point is drawn with the density it reports: over many draws, the mean of f / density is the
+// integral of f over the square, for any f (here the indicator of a quarter, where the guide learned nothing, and
+// of the cell it learned most), and points fall in the learned cell as often as its density says.
+TEST(EmissionGuide, DrawsWithTheDensityItReports) {
+  cpu::EmissionGuide guide;
+  EXPECT_TRUE(guide.uniform());
+  guide.learn({0.8f, 0.1f}, 5.0f);
+  guide.learn({0.9f, 0.15f}, 1.0f);
+  guide.learn({0.2f, 0.7f}, 0.0f);  // no importance: nothing learned
+  guide.update();
+  ASSERT_FALSE(guide.uniform());
+  const int n = 1 << 18, cells = cpu::EmissionGuide::kCellsPerSide;
+  const auto in_cell = [&](glm::vec2 u, glm::vec2 of) {
+    return glm::ivec2(u * float(cells)) == glm::ivec2(of * float(cells));
+  };
+  double quarter = 0.0, learned_cell = 0.0;
+  int in_learned = 0;
+  for (int i = 0; i < n; ++i) {
+    const glm::vec2 within = r2_point(uint32_t(i) + 1u, glm::vec2(0.25f, 0.75f));
+    const auto sample = guide.sample((float(i) + 0.5f) / float(n), within);
+    ASSERT_GT(sample.density, 0.0f);
+    ASSERT_TRUE(sample.emission.x >= 0.0f && sample.emission.x < 1.0f && sample.emission.y >= 0.0f &&
+                sample.emission.y < 1.0f);
+    if (sample.emission.x < 0.5f && sample.emission.y >= 0.5f) quarter += 1.0 / sample.density;
+    if (in_cell(sample.emission, {0.8f, 0.1f})) learned_cell += 1.0 / sample.density, ++in_learned;
+  }
+  EXPECT_NEAR(quarter / n, 0.25, 0.01);
+  EXPECT_NEAR(learned_cell / n, 1.0 / (cells * cells), 0.01 / (cells * cells));
+  // 5/6 of the learned share, 3/4 of all, plus the uniform share's 1/4 of one cell.
+  const double expected = 0.75 * 5.0 / 6.0 + 0.25 / (cells * cells);
+  EXPECT_NEAR(double(in_learned) / n, expected, 0.01);
+}
+
 TEST(TileMatrix, MapsTheTileOntoTheWholeClipSquare) {
   // Tile (64..128) x (0..32) of a 256 x 128 image: its corners must land on clip -1 and +1.
   const glm::mat4 m = tile_matrix(256, 128, 64, 0, 64, 32, glm::vec2(0.0f));

@@ -220,7 +220,9 @@ TEST_F(TopologyRender, SolidGridStillLightsDirectly) {
 // A sun through a window: VPLs traced from the sun land on a disk the size of the scene, nearly all outside the
 // room. Resampled by the light they give what the camera sees, they are less noisy; drawn anew every sample, the
 // room's indirect light converges over the samples: two seeds' images draw together. (With one set of VPLs for
-// every sample, as before, 256 samples were no closer than 1.)
+// every sample, as before, 256 samples were no closer than 1.) After the first sample the sun's paths leave where
+// earlier paths' light reached the view (EmissionGuide), so the images draw together faster than the 1/16 that 256
+// samples like the first would give: 0.12 of the first sample's difference before the guide, 0.04 with it.
 TEST_F(TopologyRender, SunThroughAWindowConvergesOverSamples) {
   add_soup(1, room_with_window().vertices);
   set_instances({1}, {glm::mat4(1.0f)});
@@ -263,7 +265,7 @@ TEST_F(TopologyRender, SunThroughAWindowConvergesOverSamples) {
   EXPECT_GT(mean_red(a), 0.0);
   // Importance: 1.7 with as many VPLs traced uniformly, 0.87 from 8x candidates resampled uniformly.
   EXPECT_LT(one, 0.7);
-  EXPECT_LT(many, 0.25 * one);  // 1 / 16 in the limit; rare VPLs next to a surface slow it
+  EXPECT_LT(many, 0.0625 * one);
 }
 
 TEST_F(TopologyRender, ClosedRoomGetsNoIndirectLight) {

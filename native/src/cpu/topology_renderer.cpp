@@ -266,6 +266,7 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
   const int wanted = std::max(settings.topology_vpls, 1);
   options.paths = (kCandidatesPerVpl * wanted + options.bounces - 1) / options.bounces;
   options.seed = seed;
+  options.guides = guides_;
   const std::vector<Vpl> candidates = trace_vpls(scene_, lights, options);
   std::vector<uint32_t> candidate_cluster(candidates.size());
   parallel_for(candidates.size(), 0, 64, [&](std::size_t i) { candidate_cluster[i] = vpl_cluster(candidates[i]); });
@@ -308,6 +309,9 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
     }
     importance[i] = float(sum);
   });
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (candidates[i].light < guides_.size()) guides_[candidates[i].light].learn(candidates[i].emission, importance[i]);
+  for (EmissionGuide& guide : guides_) guide.update();
   Rng rng(seed, kVplResampling, 0);
   vpls_.clear();
   vpl_cluster_.clear();
@@ -403,6 +407,8 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   for (int s = 0; s < settings.samples; ++s) {
     if (callbacks.cancelled()) return false;
     const std::vector<BounceLight>& lights = scene_lights.sample(scene, settings, static_cast<uint32_t>(s), seed);
+    // The lamps keep their indices from sample to sample (the world's directions and the emitters do not).
+    if (s == 0) guides_.assign(scene_lights.lamp_count(), EmissionGuide{});
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
     {

@@ -49,6 +49,7 @@ class TopologyRenderer {
   CpuScene& scene_;                  // the renderer's, shared with the ray-traced direct light
   TopologyCache topologies_{false};  // occluders, no passages: shadow rays decide there
   std::vector<Vpl> vpls_;
+  std::vector<EmissionGuide> guides_;    // per lamp, learned over a render's samples
   std::vector<uint32_t> vpl_cluster_;    // per VPL; topology::kNoNode when walled in or outside the grid
   std::vector<uint8_t> vpl_lit_by_ray_;  // per VPL: whether a shadow ray found its light reaching a probe
 };

@@ -88,6 +88,33 @@ glm::vec3 light_power(const BounceLight& light, float scene_radius) {
   }
 }
 
+void EmissionGuide::learn(glm::vec2 emission, float importance) {
+  if (!(importance > 0.0f) || !std::isfinite(importance)) return;
+  const auto cell = [](float u) { return std::clamp(int(u * float(kCellsPerSide)), 0, kCellsPerSide - 1); };
+  learned_[std::size_t(cell(emission.y) * kCellsPerSide + cell(emission.x))] += double(importance);
+}
+
+void EmissionGuide::update() {
+  double total = 0.0;
+  for (double value : learned_) total += value;
+  cdf_.clear();
+  if (!(total > 0.0)) return;
+  const double uniform = kUniformShare / double(learned_.size());
+  double cumulative = 0.0;
+  for (double value : learned_) cdf_.push_back(cumulative += (1.0 - kUniformShare) * value / total + uniform);
+}
+
+EmissionGuide::Sample EmissionGuide::sample(float pick, glm::vec2 within) const {
+  if (cdf_.empty()) return {within, 1.0f};
+  const double target = double(pick) * cdf_.back();
+  const auto cell = std::size_t(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin());
+  const std::size_t k = std::min(cell, cdf_.size() - 1);
+  const double probability = (cdf_[k] - (k == 0 ? 0.0 : cdf_[k - 1])) / cdf_.back();
+  const glm::vec2 corner(float(k % kCellsPerSide), float(k / kCellsPerSide));
+  const glm::vec2 emission = glm::min((corner + within) / float(kCellsPerSide), glm::vec2(1.0f - 1e-7f));
+  return {emission, float(probability * double(cdf_.size()))};
+}
+
 std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> lights, const VplOptions& options) {
   const int paths = std::max(options.paths, 0), bounces = std::max(options.bounces, 1);
   const float radius = scene.radius();
@@ -110,10 +137,13 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
   std::vector<std::vector<Vpl>> per_path(static_cast<std::size_t>(paths));
   parallel_for(std::size_t(paths), 0, 16, [&](std::size_t i) {
     Rng rng(options.seed, kVplPaths, i);
-    const BounceLight& light = lights[light_of[i]];
+    const uint32_t l = light_of[i];
     const float u1 = rng.next(), u2 = rng.next(), u3 = rng.next(), u4 = rng.next();
-    Emission ray = emit(light, centre, radius, offset, u1, u2, u3, u4);
-    glm::vec3 power = ray.power / float(paths_of[light_of[i]]);
+    const EmissionGuide::Sample guided = l < options.guides.size() && !options.guides[l].uniform()
+                                             ? options.guides[l].sample(rng.next(), {u1, u2})
+                                             : EmissionGuide::Sample{{u1, u2}, 1.0f};
+    Emission ray = emit(lights[l], centre, radius, offset, guided.emission.x, guided.emission.y, u3, u4);
+    glm::vec3 power = ray.power / (float(paths_of[l]) * guided.density);
     for (int bounce = 1; bounce <= bounces; ++bounce) {
       if (!(weight(power) > 0.0f) || !std::isfinite(weight(power))) break;
       // The origin is already off its surface: a near limit as well would skip an adjoining face within it (the
@@ -123,7 +153,7 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
       const Surface s = scene.surface(*hit, ray.direction);
       power *= s.albedo;
       if (!(weight(power) > 0.0f)) break;
-      per_path[i].push_back({s.position, s.normal, power, uint32_t(bounce)});
+      per_path[i].push_back({s.position, s.normal, power, uint32_t(bounce), l, guided.emission});
       // Cosine-weighted: the next ray carries the reflected power unchanged (the cosine and pdf cancel).
       ray.origin = s.position + s.normal * offset;
       ray.direction = cosine_direction(s.normal, rng.next(), rng.next());

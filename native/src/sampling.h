@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 
 #include <glm/glm.hpp>
 
@@ -19,6 +20,16 @@ inline uint32_t pcg_hash(uint32_t v) {
 inline uint32_t hash_combine(uint32_t a, uint32_t b) { return pcg_hash(a ^ (b + 0x9e3779b9u + (a << 6) + (a >> 2))); }
 
 inline float hash_to_unit(uint32_t v) { return static_cast<float>(pcg_hash(v) >> 8) * (1.0f / 16777216.0f); }
+
+// In a cumulative table (cdf[0] = 0, cdf[i + 1] - cdf[i] the weight of entry i; at least two values), the index
+// i with cdf[i] <= target < cdf[i + 1], among the entries of positive weight.
+inline std::size_t find_in_cdf(std::span<const double> cdf, double target) {
+  const auto it = std::upper_bound(cdf.begin() + 1, cdf.end(), target);
+  std::size_t i = std::size_t(it - cdf.begin()) - 1;
+  i = std::min(i, cdf.size() - 2);
+  while (i > 0 && cdf[i + 1] == cdf[i]) --i;  // a target on a zero-weight entry's edge takes the one before
+  return i;
+}
 
 // Roberts' R2 sequence, rotated by `rotation` (Cranley-Patterson), in [0,1)^2. Index 0 with no rotation is
 // (0.5, 0.5): a one-sample render samples pixel centres and the light's centre.

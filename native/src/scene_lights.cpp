@@ -30,15 +30,6 @@ constexpr int kWorldTableWidth = 512, kWorldTableHeight = 256;
 // The weight by which lights are drawn: radiance summed over channels (a pure red light still counts).
 float weight(glm::vec3 radiance) { return std::max(0.0f, radiance.r + radiance.g + radiance.b); }
 
-// The index i with cdf[i] <= target < cdf[i + 1], among those of positive weight.
-std::size_t find_in_cdf(const std::vector<double>& cdf, double target) {
-  const auto it = std::upper_bound(cdf.begin() + 1, cdf.end(), target);
-  std::size_t i = std::size_t(it - cdf.begin()) - 1;
-  i = std::min(i, cdf.size() - 2);
-  while (i > 0 && cdf[i + 1] == cdf[i]) --i;  // a target on a zero-weight entry's edge takes the one before
-  return i;
-}
-
 // The mean of `texture` over the triangle (uv0, uv1, uv2) of texture space, as the camera sees it (bilinear):
 // 64 stratified samples per texel the triangle covers, 16 to 4096, so that a screen's two triangles carry the
 // picture's mean colour.

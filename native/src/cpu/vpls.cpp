@@ -100,19 +100,17 @@ void EmissionGuide::update() {
   cdf_.clear();
   if (!(total > 0.0)) return;
   const double uniform = kUniformShare / double(learned_.size());
-  double cumulative = 0.0;
-  for (double value : learned_) cdf_.push_back(cumulative += (1.0 - kUniformShare) * value / total + uniform);
+  cdf_.push_back(0.0);
+  for (double value : learned_) cdf_.push_back(cdf_.back() + (1.0 - kUniformShare) * value / total + uniform);
 }
 
 EmissionGuide::Sample EmissionGuide::sample(float pick, glm::vec2 within) const {
   if (cdf_.empty()) return {within, 1.0f};
-  const double target = double(pick) * cdf_.back();
-  const auto cell = std::size_t(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin());
-  const std::size_t k = std::min(cell, cdf_.size() - 1);
-  const double probability = (cdf_[k] - (k == 0 ? 0.0 : cdf_[k - 1])) / cdf_.back();
+  const std::size_t k = find_in_cdf(cdf_, double(pick) * cdf_.back());
+  const double probability = (cdf_[k + 1] - cdf_[k]) / cdf_.back();
   const glm::vec2 corner(float(k % kCellsPerSide), float(k / kCellsPerSide));
   const glm::vec2 emission = glm::min((corner + within) / float(kCellsPerSide), glm::vec2(1.0f - 1e-7f));
-  return {emission, float(probability * double(cdf_.size()))};
+  return {emission, float(probability * double(learned_.size()))};
 }
 
 std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> lights, const VplOptions& options) {
@@ -126,10 +124,7 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
   if (!(cumulative.back() > 0.0)) return {};
   std::vector<uint32_t> light_of(static_cast<std::size_t>(paths)), paths_of(lights.size(), 0);
   for (int i = 0; i < paths; ++i) {
-    const double target = (i + 0.5) / paths * cumulative.back();
-    const auto l =
-        std::size_t(std::upper_bound(cumulative.begin() + 1, cumulative.end(), target) - cumulative.begin() - 1);
-    light_of[std::size_t(i)] = uint32_t(std::min(l, lights.size() - 1));
+    light_of[std::size_t(i)] = uint32_t(find_in_cdf(cumulative, (i + 0.5) / paths * cumulative.back()));
     ++paths_of[light_of[std::size_t(i)]];
   }
   const glm::vec3 centre = 0.5f * (scene.bounds_min() + scene.bounds_max());

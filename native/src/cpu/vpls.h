@@ -52,7 +52,7 @@ class EmissionGuide {
 
  private:
   std::vector<double> learned_ = std::vector<double>(kCellsPerSide * kCellsPerSide, 0.0);
-  std::vector<double> cdf_;  // cumulative cell probabilities, one per cell; empty when uniform
+  std::vector<double> cdf_;  // cumulative cell probabilities from 0 (find_in_cdf); empty when uniform
 };
 
 struct VplOptions {

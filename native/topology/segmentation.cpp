@@ -5,6 +5,7 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <tuple>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -437,53 +438,115 @@ void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>&
   }
 }
 
+namespace {
+
+// Whether a boundary face lies in a gate's opening: inside its rectangle, and near enough its plane: the plane
+// lies up to kPlaneSearchSteps half voxels off the neck, the boundary a voxel off it.
+bool in_gate_opening(const Gate& gate, glm::dvec3 face, double voxel) {
+  const glm::dvec3 offset = face - glm::dvec3(gate.centre);
+  const glm::dvec3 n(gate.normal), u(gate.axis_u), v = glm::cross(n, u);
+  return std::abs(glm::dot(offset, n)) <= (0.5 * kPlaneSearchSteps + 1.0) * voxel &&
+         std::abs(glm::dot(offset, u)) <= gate.half_u && std::abs(glm::dot(offset, v)) <= gate.half_v;
+}
+
+struct BoundaryFace {
+  glm::dvec3 centre;
+  glm::ivec3 key;     // the centre in half voxels: faces of one piece of boundary lie at most a voxel apart
+  glm::dvec3 normal;  // from the pair's first cluster to its second
+};
+
+// The pieces of a boundary: faces joined through neighbours at most a voxel apart (an edge or a corner shared).
+std::vector<std::vector<BoundaryFace>> boundary_pieces(const std::vector<BoundaryFace>& faces) {
+  std::map<std::tuple<int, int, int>, std::size_t> index;
+  for (std::size_t i = 0; i < faces.size(); ++i) index[{faces[i].key.x, faces[i].key.y, faces[i].key.z}] = i;
+  std::vector<uint8_t> taken(faces.size(), 0);
+  std::vector<std::vector<BoundaryFace>> pieces;
+  std::vector<std::size_t> stack;
+  for (std::size_t seed = 0; seed < faces.size(); ++seed) {
+    if (taken[seed]) continue;
+    taken[seed] = 1;
+    stack.assign(1, seed);
+    std::vector<BoundaryFace>& piece = pieces.emplace_back();
+    while (!stack.empty()) {
+      const BoundaryFace& face = faces[stack.back()];
+      stack.pop_back();
+      piece.push_back(face);
+      for (int dz = -2; dz <= 2; ++dz)
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) {
+            if (dx * dx + dy * dy + dz * dz > 4) continue;
+            const auto found = index.find({face.key.x + dx, face.key.y + dy, face.key.z + dz});
+            if (found == index.end() || taken[found->second]) continue;
+            taken[found->second] = 1;
+            stack.push_back(found->second);
+          }
+    }
+  }
+  return pieces;
+}
+
+}  // namespace
+
 void add_boundary_gates(const GridShape& shape, const std::vector<uint32_t>& voxel_cluster, std::vector<Gate>& gates) {
-  std::set<std::pair<uint32_t, uint32_t>> gated;
-  for (const Gate& gate : gates) gated.insert(std::minmax(gate.clusters[0], gate.clusters[1]));
-  struct Boundary {
-    std::vector<glm::dvec3> faces;
-    glm::dvec3 normal{0.0};  // the sum of the faces' normals, from the pair's first cluster to its second
-  };
-  std::map<std::pair<uint32_t, uint32_t>, Boundary> boundaries;
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<std::size_t>> gates_of_pair;
+  for (std::size_t g = 0; g < gates.size(); ++g)
+    gates_of_pair[std::minmax(gates[g].clusters[0], gates[g].clusters[1])].push_back(g);
+  const glm::dvec3 origin = shape.centre(glm::ivec3(0));
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<BoundaryFace>> boundaries;
   for_each_boundary_face(shape, voxel_cluster, [&](glm::dvec3 face, int axis, uint32_t a, uint32_t b) {
     const auto pair = std::minmax(a, b);
-    if (gated.count(pair)) return;
-    Boundary& boundary = boundaries[pair];
-    boundary.faces.push_back(face);
-    boundary.normal[axis] += a == pair.first ? 1.0 : -1.0;
+    glm::dvec3 normal(0.0);
+    normal[axis] = a == pair.first ? 1.0 : -1.0;
+    boundaries[pair].push_back({face, glm::ivec3(glm::round(2.0 * (face - origin) / shape.voxel_size)), normal});
   });
-  for (auto& [pair, boundary] : boundaries) {
-    const double length = glm::length(boundary.normal);
-    // Faces whose normals cancel (a cluster wrapped around another) have no plane a rectangle could stand for.
-    if (!(length > 0.0)) continue;
-    const glm::dvec3 n = boundary.normal / length;
-    glm::dvec3 centre(0.0);
-    for (const glm::dvec3& face : boundary.faces) centre += face;
-    centre /= double(boundary.faces.size());
-    // The rectangle around the faces projected on the plane through their mean, along their main axis.
-    const glm::dvec3 t(perpendicular(glm::vec3(n))), w = glm::cross(n, t);
-    double xx = 0.0, xy = 0.0, yy = 0.0;
-    for (const glm::dvec3& face : boundary.faces) {
-      const glm::dvec2 d(glm::dot(face - centre, t), glm::dot(face - centre, w));
-      xx += d.x * d.x, xy += d.x * d.y, yy += d.y * d.y;
+  for (const auto& [pair, faces] : boundaries) {
+    // Two clusters no gate joins get one rectangle around all their faces; those of a pair a gate joins, per piece
+    // of their boundary, one around the piece's faces outside the gates' openings. Per piece, not per run of such
+    // faces: the staircase around an opening leaves fragments of a few faces (the Cornell box: 403 of 2-4 faces),
+    // each a gate every walk tries, which doubled its render time.
+    const auto gated = gates_of_pair.find(pair);
+    const auto covered = [&](const BoundaryFace& face) {
+      return gated != gates_of_pair.end() &&
+             std::any_of(gated->second.begin(), gated->second.end(),
+                         [&](std::size_t g) { return in_gate_opening(gates[g], face.centre, shape.voxel_size); });
+    };
+    for (std::vector<BoundaryFace> piece :
+         gated != gates_of_pair.end() ? boundary_pieces(faces) : std::vector<std::vector<BoundaryFace>>{faces}) {
+      std::erase_if(piece, covered);
+      if (piece.empty()) continue;
+      glm::dvec3 sum(0.0), centre(0.0);
+      for (const BoundaryFace& face : piece) sum += face.normal, centre += face.centre;
+      const double length = glm::length(sum);
+      // Faces whose normals cancel (a cluster wrapped around another) have no plane a rectangle could stand for.
+      if (!(length > 0.0)) continue;
+      const glm::dvec3 n = sum / length;
+      centre /= double(piece.size());
+      // The rectangle around the faces projected on the plane through their mean, along their main axis.
+      const glm::dvec3 t(perpendicular(glm::vec3(n))), w = glm::cross(n, t);
+      double xx = 0.0, xy = 0.0, yy = 0.0;
+      for (const BoundaryFace& face : piece) {
+        const glm::dvec2 d(glm::dot(face.centre - centre, t), glm::dot(face.centre - centre, w));
+        xx += d.x * d.x, xy += d.x * d.y, yy += d.y * d.y;
+      }
+      const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
+      const glm::dvec3 u = std::cos(angle) * t + std::sin(angle) * w, v = glm::cross(n, u);
+      double half_u = 0.0, half_v = 0.0;
+      for (const BoundaryFace& face : piece) {
+        half_u = std::max(half_u, std::abs(glm::dot(face.centre - centre, u)));
+        half_v = std::max(half_v, std::abs(glm::dot(face.centre - centre, v)));
+      }
+      Gate gate;
+      gate.centre = glm::vec3(centre);
+      gate.normal = glm::vec3(n);
+      gate.axis_u = glm::vec3(u);
+      gate.half_u = float(half_u + 0.5 * shape.voxel_size);
+      gate.half_v = float(half_v + 0.5 * shape.voxel_size);
+      gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
+      gate.clusters = {pair.first, pair.second};
+      gate.nodes = {kNoNode, kNoNode};
+      gate.kind = gated != gates_of_pair.end() ? Gate::Kind::kSecondOpening : Gate::Kind::kBoundary;
+      gates.push_back(gate);
     }
-    const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
-    const glm::dvec3 u = std::cos(angle) * t + std::sin(angle) * w, v = glm::cross(n, u);
-    double half_u = 0.0, half_v = 0.0;
-    for (const glm::dvec3& face : boundary.faces) {
-      half_u = std::max(half_u, std::abs(glm::dot(face - centre, u)));
-      half_v = std::max(half_v, std::abs(glm::dot(face - centre, v)));
-    }
-    Gate gate;
-    gate.centre = glm::vec3(centre);
-    gate.normal = glm::vec3(n);
-    gate.axis_u = glm::vec3(u);
-    gate.half_u = float(half_u + 0.5 * shape.voxel_size);
-    gate.half_v = float(half_v + 0.5 * shape.voxel_size);
-    gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
-    gate.clusters = {pair.first, pair.second};
-    gate.nodes = {kNoNode, kNoNode};
-    gates.push_back(gate);
   }
 }
 

@@ -62,6 +62,13 @@ struct Gate {
   float radius = 0.0f;                 // of the circle around the rectangle
   std::array<uint32_t, 2> clusters{};
   std::array<uint32_t, 2> nodes{};  // segmented nodes at the edge's ends (kNoNode: a boundary gate)
+  // Where the gate comes from (add_boundary_gates). A second opening between two clusters a skeleton gate already
+  // joins may be the dome of voxels one room's cluster claims around a doorway in the next room, whose rectangle
+  // stands in front of the wall: a renderer with a ray tracer confirms a crossing through it with a shadow ray,
+  // one without leaves it out.
+  enum class Kind : uint8_t { kSkeleton, kBoundary, kSecondOpening };
+  Kind kind = Kind::kSkeleton;
+  bool needs_ray() const { return kind == Kind::kSecondOpening; }
 };
 std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkeleton& segmented,
                                    const std::vector<uint32_t>& cluster_of);
@@ -81,11 +88,15 @@ std::vector<uint32_t> node_clusters(const Skeleton& skeleton, const SegmentedSke
 void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>& voxel_cluster,
                              std::vector<Gate>& gates);
 
-// A gate for every pair of clusters whose voxels touch with no skeleton edge between them: the rectangle around
-// their shared faces, in the plane through the faces' mean that faces as their normals do on the whole. The
-// paper's gates sit on the skeleton's edges (Sec. IV.C), but a voxel takes its nearest node's cluster, so a
-// branch of the skeleton reaching into a corner claims a slab of the room around it, and light crossing the
-// slab's boundary found no gate (an open box lost 13 % of its indirect light).
+// A gate for every piece of the boundary between two clusters' voxels that no gate covers: the rectangle around
+// the piece's faces, in the plane through their mean that faces as their normals do on the whole. The paper's
+// gates sit on the skeleton's edges (Sec. IV.C), but a voxel takes its nearest node's cluster, so a branch of the
+// skeleton reaching into a corner claims a slab of the room around it, and light crossing the slab's boundary
+// found no gate (an open box lost 13 % of its indirect light). Two clusters may also touch through several
+// openings, one of which holds their skeleton edge's gate: Sponza's galleries open on the court through a row of
+// arches, and the Topology method lost half the light that crosses from one cluster to another there. A piece of a
+// pair that a fitted gate already joins may also be the dome of voxels one room's cluster claims around a doorway
+// in the next room, whose rectangle stands in front of the wall (Gate::Kind).
 void add_boundary_gates(const GridShape& shape, const std::vector<uint32_t>& voxel_cluster, std::vector<Gate>& gates);
 
 }  // namespace bounce::topology

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <set>
@@ -155,6 +156,54 @@ TEST(TopologyScenes, ClustersWhoseVoxelsTouchHaveAGate) {
   for (const auto& pair : touching) EXPECT_TRUE(gated.count(pair)) << pair.first << "-" << pair.second;
 }
 
+// Two clusters a skeleton edge joins may touch beyond that edge's opening: one room's cluster claims a dome of the
+// next room's voxels around their doorway, and Sponza's galleries meet the court through a row of arches (the
+// Topology method lost half the light crossing between clusters in Sponza's court, 0.864 of shadow rays' light
+// in the middle third of its view). Light crossing anywhere on their boundary needs a gate over it
+// (add_boundary_gates): every face between their voxels lies over one of their gates' rectangles.
+TEST(TopologyScenes, BoundariesOfJoinedClustersLieUnderTheirGates) {
+  for (const auto& [soup, resolution] :
+       {std::pair{test::two_rooms(), 128}, std::pair{test::two_rooms(), 192}, std::pair{test::open_box(), 128}}) {
+    const Topology t = build_at(soup, resolution);
+    std::set<std::pair<uint32_t, uint32_t>> joined;
+    for (const Gate& gate : t.gates)
+      if (gate.kind == Gate::Kind::kSkeleton) joined.insert(std::minmax(gate.clusters[0], gate.clusters[1]));
+    const GridShape& shape = t.grid.shape;
+    const glm::ivec3 padded = shape.padded();
+    const std::size_t strides[3] = {1, std::size_t(padded.x), std::size_t(padded.x) * std::size_t(padded.y)};
+    const auto over = [&](const Gate& gate, glm::vec3 face) {
+      const glm::vec3 offset = face - gate.centre;
+      return std::abs(glm::dot(offset, gate.axis_u)) <= gate.half_u &&
+             std::abs(glm::dot(offset, glm::cross(gate.normal, gate.axis_u))) <= gate.half_v;
+    };
+    std::size_t faces = 0, outside = 0, outside_skeleton_gates = 0;
+    for (std::size_t i = 0; i < t.skeleton.voxel_node.size(); ++i)
+      for (std::size_t stride : strides) {
+        if (i + stride >= t.skeleton.voxel_node.size()) continue;
+        const uint32_t a = t.cluster_of_node(t.skeleton.voxel_node[i]);
+        const uint32_t b = t.cluster_of_node(t.skeleton.voxel_node[i + stride]);
+        if (a == kNoNode || b == kNoNode || a == b || !joined.count(std::minmax(a, b))) continue;
+        const glm::vec3 face(0.5 *
+                             (shape.centre(shape.voxel_of_index(i)) + shape.centre(shape.voxel_of_index(i + stride))));
+        const auto outside_of = [&](bool skeleton_only) {
+          return std::none_of(t.gates.begin(), t.gates.end(), [&](const Gate& gate) {
+            return (!skeleton_only || gate.kind == Gate::Kind::kSkeleton) &&
+                   std::minmax(gate.clusters[0], gate.clusters[1]) == std::minmax(a, b) && over(gate, face);
+          });
+        };
+        ++faces;
+        outside += outside_of(false);
+        outside_skeleton_gates += outside_of(true);
+      }
+    std::printf(
+        "%d voxels: of %zu faces between joined clusters, %zu lie outside their gates (%zu outside the "
+        "skeleton's gates alone)\n",
+        resolution, faces, outside, outside_skeleton_gates);
+    EXPECT_GT(faces, 0u);
+    EXPECT_LE(double(outside), 0.01 * double(faces)) << resolution;
+  }
+}
+
 class TopologyTwoRooms : public testing::TestWithParam<int> {};
 
 TEST_P(TopologyTwoRooms, AreTwoClustersWithAGateInTheDoorway) {
@@ -164,8 +213,13 @@ TEST_P(TopologyTwoRooms, AreTwoClustersWithAGateInTheDoorway) {
   ASSERT_NE(inside.label, kNoNode);
   EXPECT_EQ(inside.clusters, 2u) << t.summary();
   EXPECT_NE(t.cluster_at({5, 5, 2}, {}), t.cluster_at({15, 5, 2}, {}));
-  ASSERT_EQ(inside.gates.size(), 1u) << t.summary();
-  const Gate& gate = inside.gates[0];
+  // One gate in the doorway; the rest of the boundary between the rooms' voxels (a room's cluster claims voxels
+  // of the other around the doorway) only with a ray's word.
+  std::vector<Gate> trusted;
+  std::copy_if(inside.gates.begin(), inside.gates.end(), std::back_inserter(trusted),
+               [](const Gate& g) { return !g.needs_ray(); });
+  ASSERT_EQ(trusted.size(), 1u) << t.summary();
+  const Gate& gate = trusted[0];
   const float h = float(t.grid.shape.voxel_size);
   // Its centre within the opening (the wall is two voxels thick).
   EXPECT_NEAR(gate.centre.x, test::kDoorLo.x, 2.0f * h);

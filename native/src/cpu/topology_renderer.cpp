@@ -67,27 +67,39 @@ namespace {
 // for one gate), found by a breadth-first walk as topology_visibility (shaders/topology_visibility/visibility.glsl)
 // does: the paper's single gate test let light through any of the cluster's gates, toward any cluster. A view
 // sample outside every cluster has no visibility information and counts every light here (the shading casts it
-// a shadow ray).
+// a shadow ray). A chain found only through gates that need a ray (Gate::needs_ray) lets the light through if a
+// shadow ray does.
 // first_gates: the gates of `from` the walk may leave it by (all of them when empty; light assignment passes those
 // whose cones meet a group of view samples).
-bool reaches(const topology::Topology& topo, const ClusterGraph& graph, uint32_t from, glm::vec3 p, uint32_t to,
-             glm::vec3 x, std::span<const uint32_t> first_gates = {}) {
-  if (from == kNoNode) return false;
-  if (to == kNoNode || to == from) return true;
-  std::array<uint32_t, TOPOLOGY_WALK_CLUSTERS> walk{from};
-  std::size_t walked = 1;
-  for (std::size_t head = 0; head < walked; ++head) {
-    const uint32_t cluster = walk[head];
-    for (uint32_t g : head == 0 && !first_gates.empty() ? first_gates : std::span(graph.gates_of[cluster])) {
-      const topology::Gate& gate = topo.gates[g];
-      const uint32_t beyond = gate.clusters[0] == cluster ? gate.clusters[1] : gate.clusters[0];
-      if (std::find(walk.begin(), walk.begin() + walked, beyond) != walk.begin() + walked || !in_gate_cone(p, gate, x))
-        continue;
-      if (beyond == to) return true;
-      if (walked < walk.size()) walk[walked++] = beyond;
+enum class Reach : uint8_t { kNo, kYes, kIfRayClear };
+Reach reaches(const topology::Topology& topo, const ClusterGraph& graph, uint32_t from, glm::vec3 p, uint32_t to,
+              glm::vec3 x, std::span<const uint32_t> first_gates = {}) {
+  if (from == kNoNode) return Reach::kNo;
+  if (to == kNoNode || to == from) return Reach::kYes;
+  bool passed_ray_gates = false;
+  for (const bool with_ray_gates : {false, true}) {
+    if (with_ray_gates && !passed_ray_gates) break;
+    std::array<uint32_t, TOPOLOGY_WALK_CLUSTERS> walk{from};
+    std::size_t walked = 1;
+    for (std::size_t head = 0; head < walked; ++head) {
+      const uint32_t cluster = walk[head];
+      for (uint32_t g : head == 0 && !first_gates.empty() ? first_gates : std::span(graph.gates_of[cluster])) {
+        const topology::Gate& gate = topo.gates[g];
+        const uint32_t beyond = gate.clusters[0] == cluster ? gate.clusters[1] : gate.clusters[0];
+        if (std::find(walk.begin(), walk.begin() + walked, beyond) != walk.begin() + walked ||
+            !in_gate_cone(p, gate, x))
+          continue;
+        // Walked again with these gates only when the segment crosses one: otherwise the walk would be the same.
+        if (gate.needs_ray() && !with_ray_gates) {
+          passed_ray_gates = true;
+          continue;
+        }
+        if (beyond == to) return with_ray_gates ? Reach::kIfRayClear : Reach::kYes;
+        if (walked < walk.size()) walk[walked++] = beyond;
+      }
     }
   }
-  return false;
+  return Reach::kNo;
 }
 
 // How the method's visibility decides whether a VPL in cluster `from` lights a point in cluster `to`.
@@ -287,16 +299,20 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
     for (const Probe& probe : probes) {
       const glm::vec3 light = probe.albedo * vpl_irradiance(vpl, probe.position, probe.normal, clamp);
       if (!(light.r + light.g + light.b > 0.0f)) continue;
+      const auto clear = [&] {
+        return scene_.clear_between(vpl.position + vpl.normal * offset, probe.position + probe.normal * offset);
+      };
       const Test test = visibility_test(settings.topology_visibility, topo, candidate_cluster[i], probe.cluster);
       switch (test) {
         case Test::kDark:
           continue;
-        case Test::kGates:
-          if (!reaches(topo, graph, candidate_cluster[i], vpl.position, probe.cluster, probe.position)) continue;
+        case Test::kGates: {
+          const Reach reach = reaches(topo, graph, candidate_cluster[i], vpl.position, probe.cluster, probe.position);
+          if (reach == Reach::kNo || (reach == Reach::kIfRayClear && !clear())) continue;
           break;
+        }
         case Test::kShadowRay:
-          if (!scene_.clear_between(vpl.position + vpl.normal * offset, probe.position + probe.normal * offset))
-            continue;
+          if (!clear()) continue;
           lit_by_ray[i] = 1;
           break;
         case Test::kNone:
@@ -549,10 +565,12 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
               const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
               // The visibility tests last: most VPLs face away from a given sample.
               if (!(e.r + e.g + e.b > 0.0f)) continue;
-              if (a.test == Test::kGates && !reaches(topo, graph, vpl_cluster_[a.vpl], vpl.position, v.cluster, x,
-                                                     std::span(group.gates).subspan(a.first_gate, a.first_gates)))
-                continue;
-              if (a.test == Test::kShadowRay && blocked(vpl)) continue;
+              const Reach reach = a.test == Test::kGates
+                                      ? reaches(topo, graph, vpl_cluster_[a.vpl], vpl.position, v.cluster, x,
+                                                std::span(group.gates).subspan(a.first_gate, a.first_gates))
+                                      : Reach::kYes;
+              if (reach == Reach::kNo) continue;
+              if ((a.test == Test::kShadowRay || reach == Reach::kIfRayClear) && blocked(vpl)) continue;
               const float share =
                   a.test == Test::kNone ? topology::unoccluded(occluder_hits, vpl.position - x, voxel) : 1.0f;
               add(vpl, share * e);

@@ -67,15 +67,17 @@ void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topol
                        glm::ivec4(padded, int(topology->cluster_count))};
   glNamedBufferSubData(grid_.id(), 0, sizeof grid, &grid);
 
+  // The gates that need a ray stay out: the GPU has none to confirm a crossing with.
   std::vector<GpuGate> gates;
-  for (const topology::Gate& gate : topology->gates)
+  std::vector<std::vector<uint32_t>> of_cluster(topology->cluster_count);
+  for (const topology::Gate& gate : topology->gates) {
+    if (gate.needs_ray()) continue;
+    for (uint32_t c : gate.clusters)
+      if (c < topology->cluster_count) of_cluster[c].push_back(uint32_t(gates.size()));
     gates.push_back({glm::vec4(gate.centre, gate.half_u), glm::vec4(gate.normal, gate.half_v),
                      glm::vec4(gate.axis_u, 0.0f), glm::uvec4(gate.clusters[0], gate.clusters[1], 0u, 0u)});
+  }
   // Two words per cluster (first index, count), then the gate indices of each cluster in turn.
-  std::vector<std::vector<uint32_t>> of_cluster(topology->cluster_count);
-  for (std::size_t g = 0; g < topology->gates.size(); ++g)
-    for (uint32_t c : topology->gates[g].clusters)
-      if (c < topology->cluster_count) of_cluster[c].push_back(uint32_t(g));
   std::vector<uint32_t> table(2 * of_cluster.size());
   for (std::size_t c = 0; c < of_cluster.size(); ++c) {
     table[2 * c] = uint32_t(table.size());

@@ -345,7 +345,7 @@ TEST_F(FlcIndirectShadows, BlocksInsideAClusterCastIndirectShadows) {
       "the light visibility keeps in the box: %.3f with FLC's Indirect Shadows, %.3f with the Topology "
       "method's clusters and gates, %.3f by shadow rays\n",
       kept, clustered, traced);
-  for (const auto [estimate, least] : {std::pair{kept, 0.5}, std::pair{clustered, 0.4}}) {
+  for (const auto& [estimate, least] : {std::pair{kept, 0.5}, std::pair{clustered, 0.4}}) {
     EXPECT_GT(1.0 - estimate, least * (1.0 - traced));
     EXPECT_GT(estimate, traced - 0.25 * (1.0 - traced));
   }

@@ -143,8 +143,6 @@ class RenderFixture : public ::testing::Test {
     camera_.width = width;
     camera_.height = height;
   }
-  // The furnace of the issues: a closed diffuse sphere (R = 2, albedo 0.8) with a 1000 W point light at its
-  // centre, seen from the centre. First-bounce irradiance on the wall: rho Phi / (4 pi R^2); second: rho times it.
   // The open box (topology_scenes.h, albedo 0.8) lit by a point light under its ceiling, seen through its open side.
   void build_lit_open_box() {
     add_soup(1, open_box().vertices);
@@ -154,6 +152,8 @@ class RenderFixture : public ::testing::Test {
     set_camera(glm::lookAt(glm::vec3(0.0f, -3.5f, 1.0f), glm::vec3(0.0f, 1.0f, 1.0f), glm::vec3(0, 0, 1)),
                glm::perspective(glm::radians(38.0f), 1.0f, 0.05f, 100.0f), 48, 48);
   }
+  // The furnace of the issues: a closed diffuse sphere (R = 2, albedo 0.8) with a 1000 W point light at its
+  // centre, seen from the centre. First-bounce irradiance on the wall: rho Phi / (4 pi R^2); second: rho times it.
   void build_furnace() {
     std::vector<float> positions;
     std::vector<uint32_t> triangles;

@@ -5,6 +5,7 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <span>
 #include <tuple>
 #include <utility>
 
@@ -23,6 +24,32 @@ constexpr double kMaxGateReach = 4.0;            // of an opening from its neck,
 glm::vec3 perpendicular(glm::vec3 n) {
   return glm::normalize(
       glm::cross(n, std::abs(n.x) < 0.9f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 1.0f, 0.0f)));
+}
+
+// The rectangle around points of a plane, along their main axis (that of their second moments about their mean):
+// its centre, its unit axis, and the points' largest distances from the centre along the axis and across it.
+struct PlaneRectangle {
+  glm::dvec2 centre{0.0}, axis{1.0, 0.0};
+  double half_u = 0.0, half_v = 0.0;
+};
+
+PlaneRectangle rectangle_around(std::span<const glm::dvec2> points) {
+  PlaneRectangle r;
+  for (const glm::dvec2& p : points) r.centre += p;
+  r.centre /= double(points.size());
+  double xx = 0.0, xy = 0.0, yy = 0.0;
+  for (const glm::dvec2& p : points) {
+    const glm::dvec2 d = p - r.centre;
+    xx += d.x * d.x, xy += d.x * d.y, yy += d.y * d.y;
+  }
+  const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
+  r.axis = glm::dvec2(std::cos(angle), std::sin(angle));
+  const glm::dvec2 other(-r.axis.y, r.axis.x);
+  for (const glm::dvec2& p : points) {
+    r.half_u = std::max(r.half_u, std::abs(glm::dot(p - r.centre, r.axis)));
+    r.half_v = std::max(r.half_v, std::abs(glm::dot(p - r.centre, other)));
+  }
+  return r;
 }
 
 // Calls visit(face centre, axis, a, b) for every face between an empty voxel of cluster a and its neighbour of
@@ -414,26 +441,13 @@ void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>&
     // every voxel a jamb passes through, wherever in it the jamb's face lies), so a voxel beyond the outermost
     // cells' centres. Ending at the empty cells lost the light along the opening's edges (a doorway 2 m by 3 m
     // at 0.16 m voxels passed 0.87 of the shadow rays' light into the next room, 0.92 now).
-    glm::dvec2 mean(0.0);
-    for (const glm::ivec2& c : cells) mean += glm::dvec2(c);
-    mean /= double(cells.size());
-    double xx = 0.0, xy = 0.0, yy = 0.0;
-    for (const glm::ivec2& c : cells) {
-      const glm::dvec2 d = glm::dvec2(c) - mean;
-      xx += d.x * d.x, xy += d.x * d.y, yy += d.y * d.y;
-    }
-    const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
-    const glm::dvec2 axis(std::cos(angle), std::sin(angle)), other(-axis.y, axis.x);
-    double half_u = 0.0, half_v = 0.0;
-    for (const glm::ivec2& c : cells) {
-      half_u = std::max(half_u, std::abs(glm::dot(glm::dvec2(c) - mean, axis)));
-      half_v = std::max(half_v, std::abs(glm::dot(glm::dvec2(c) - mean, other)));
-    }
-    gate.centre = glm::vec3(origin + (mean.x * t + mean.y * w) * shape.voxel_size);
+    const std::vector<glm::dvec2> points(cells.begin(), cells.end());
+    const PlaneRectangle r = rectangle_around(points);
+    gate.centre = glm::vec3(origin + (r.centre.x * t + r.centre.y * w) * shape.voxel_size);
     gate.normal = glm::vec3(n);
-    gate.axis_u = glm::vec3(axis.x * t + axis.y * w);
-    gate.half_u = float((half_u + 1.0) * shape.voxel_size);
-    gate.half_v = float((half_v + 1.0) * shape.voxel_size);
+    gate.axis_u = glm::vec3(r.axis.x * t + r.axis.y * w);
+    gate.half_u = float((r.half_u + 1.0) * shape.voxel_size);
+    gate.half_v = float((r.half_v + 1.0) * shape.voxel_size);
     gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
   }
 }
@@ -521,26 +535,19 @@ void add_boundary_gates(const GridShape& shape, const std::vector<uint32_t>& vox
       if (!(length > 0.0)) continue;
       const glm::dvec3 n = sum / length;
       centre /= double(piece.size());
-      // The rectangle around the faces projected on the plane through their mean, along their main axis.
+      // The rectangle around the faces projected on the plane through their mean.
       const glm::dvec3 t(perpendicular(glm::vec3(n))), w = glm::cross(n, t);
-      double xx = 0.0, xy = 0.0, yy = 0.0;
-      for (const BoundaryFace& face : piece) {
-        const glm::dvec2 d(glm::dot(face.centre - centre, t), glm::dot(face.centre - centre, w));
-        xx += d.x * d.x, xy += d.x * d.y, yy += d.y * d.y;
-      }
-      const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
-      const glm::dvec3 u = std::cos(angle) * t + std::sin(angle) * w, v = glm::cross(n, u);
-      double half_u = 0.0, half_v = 0.0;
-      for (const BoundaryFace& face : piece) {
-        half_u = std::max(half_u, std::abs(glm::dot(face.centre - centre, u)));
-        half_v = std::max(half_v, std::abs(glm::dot(face.centre - centre, v)));
-      }
+      std::vector<glm::dvec2> points;
+      points.reserve(piece.size());
+      for (const BoundaryFace& face : piece)
+        points.emplace_back(glm::dot(face.centre - centre, t), glm::dot(face.centre - centre, w));
+      const PlaneRectangle r = rectangle_around(points);
       Gate gate;
-      gate.centre = glm::vec3(centre);
+      gate.centre = glm::vec3(centre + r.centre.x * t + r.centre.y * w);
       gate.normal = glm::vec3(n);
-      gate.axis_u = glm::vec3(u);
-      gate.half_u = float(half_u + 0.5 * shape.voxel_size);
-      gate.half_v = float(half_v + 0.5 * shape.voxel_size);
+      gate.axis_u = glm::vec3(r.axis.x * t + r.axis.y * w);
+      gate.half_u = float(r.half_u + 0.5 * shape.voxel_size);
+      gate.half_v = float(r.half_v + 0.5 * shape.voxel_size);
       gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
       gate.clusters = {pair.first, pair.second};
       gate.nodes = {kNoNode, kNoNode};

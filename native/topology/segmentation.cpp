@@ -52,6 +52,22 @@ PlaneRectangle rectangle_around(std::span<const glm::dvec2> points) {
   return r;
 }
 
+// A plane with orthonormal axes, and the world length of its coordinates' unit.
+struct PlaneFrame {
+  glm::dvec3 origin, normal, t, w;
+  double unit = 1.0;
+};
+
+// The gate's rectangle: r, in the frame's coordinates, widened by `margin` (world units) on every side.
+void place_rectangle(Gate& gate, const PlaneRectangle& r, const PlaneFrame& frame, double margin) {
+  gate.centre = glm::vec3(frame.origin + (r.centre.x * frame.t + r.centre.y * frame.w) * frame.unit);
+  gate.normal = glm::vec3(frame.normal);
+  gate.axis_u = glm::vec3(r.axis.x * frame.t + r.axis.y * frame.w);
+  gate.half_u = float(r.half_u * frame.unit + margin);
+  gate.half_v = float(r.half_v * frame.unit + margin);
+  gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
+}
+
 // Calls visit(face centre, axis, a, b) for every face between an empty voxel of cluster a and its neighbour of
 // cluster b != a one step up `axis`.
 template <typename Visit>
@@ -359,7 +375,6 @@ std::vector<Gate> visibility_gates(const Skeleton& skeleton, const SegmentedSkel
     gate.axis_u = perpendicular(gate.normal);
     gate.half_u = gate.half_v = gate.radius;
     gate.clusters = {cluster_of[a], cluster_of[b]};
-    gate.nodes = {a, b};
     gates.push_back(gate);
   }
   return gates;
@@ -442,13 +457,7 @@ void fit_gates_to_boundaries(const VoxelGrid& grid, const std::vector<uint32_t>&
     // cells' centres. Ending at the empty cells lost the light along the opening's edges (a doorway 2 m by 3 m
     // at 0.16 m voxels passed 0.87 of the shadow rays' light into the next room, 0.92 now).
     const std::vector<glm::dvec2> points(cells.begin(), cells.end());
-    const PlaneRectangle r = rectangle_around(points);
-    gate.centre = glm::vec3(origin + (r.centre.x * t + r.centre.y * w) * shape.voxel_size);
-    gate.normal = glm::vec3(n);
-    gate.axis_u = glm::vec3(r.axis.x * t + r.axis.y * w);
-    gate.half_u = float((r.half_u + 1.0) * shape.voxel_size);
-    gate.half_v = float((r.half_v + 1.0) * shape.voxel_size);
-    gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
+    place_rectangle(gate, rectangle_around(points), {origin, n, t, w, shape.voxel_size}, shape.voxel_size);
   }
 }
 
@@ -541,16 +550,9 @@ void add_boundary_gates(const GridShape& shape, const std::vector<uint32_t>& vox
       points.reserve(piece.size());
       for (const BoundaryFace& face : piece)
         points.emplace_back(glm::dot(face.centre - centre, t), glm::dot(face.centre - centre, w));
-      const PlaneRectangle r = rectangle_around(points);
       Gate gate;
-      gate.centre = glm::vec3(centre + r.centre.x * t + r.centre.y * w);
-      gate.normal = glm::vec3(n);
-      gate.axis_u = glm::vec3(r.axis.x * t + r.axis.y * w);
-      gate.half_u = float(r.half_u + 0.5 * shape.voxel_size);
-      gate.half_v = float(r.half_v + 0.5 * shape.voxel_size);
-      gate.radius = std::sqrt(gate.half_u * gate.half_u + gate.half_v * gate.half_v);
+      place_rectangle(gate, rectangle_around(points), {centre, n, t, w, 1.0}, 0.5 * shape.voxel_size);
       gate.clusters = {pair.first, pair.second};
-      gate.nodes = {kNoNode, kNoNode};
       gate.kind = gated != gates_of_pair.end() ? Gate::Kind::kSecondOpening : Gate::Kind::kBoundary;
       gates.push_back(gate);
     }

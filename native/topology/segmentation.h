@@ -61,7 +61,6 @@ struct Gate {
   float half_u = 0.0f, half_v = 0.0f;  // the rectangle's half extents along axis_u and the other axis
   float radius = 0.0f;                 // of the circle around the rectangle
   std::array<uint32_t, 2> clusters{};
-  std::array<uint32_t, 2> nodes{};  // segmented nodes at the edge's ends (kNoNode: a boundary gate)
   // Where the gate comes from (add_boundary_gates). A second opening between two clusters a skeleton gate already
   // joins may be the dome of voxels one room's cluster claims around a doorway in the next room, whose rectangle
   // stands in front of the wall: a renderer with a ray tracer confirms a crossing through it with a shadow ray,

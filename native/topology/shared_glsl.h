@@ -13,6 +13,7 @@ namespace bounce::topology::shared {
 using glm::abs;
 using glm::cross;
 using glm::dot;
+using glm::length;
 using glm::normalize;
 using glm::vec2;
 using glm::vec3;

@@ -20,3 +20,11 @@ GATES_INLINE bool in_gate_cone(vec3 p, vec3 centre, vec3 normal, vec3 u, float h
   vec3 offset = crossing - centre;
   return abs(dot(offset, u)) <= half_u && abs(dot(offset, cross(normal, u))) <= half_v;
 }
+
+// How far from x the segment p-x crosses the gate's plane (in_gate_cone holds): where the light enters x's cluster
+// when this gate ends the walk.
+GATES_INLINE float gate_entry_distance(vec3 p, vec3 centre, vec3 normal, vec3 x) {
+  float side_p = dot(p - centre, normal);
+  float side_x = dot(x - centre, normal);
+  return length(x - p) * (side_x / (side_x - side_p));
+}

@@ -94,10 +94,10 @@ uint topology_cluster_at(vec3 p, vec3 n) {
   return nearest;
 }
 
-// How much of a light at p a surface inside the cluster leaves to the receiver x: where the surface that rays from
-// x's cell along the bin of p - x meet (topology::Occluders) has p behind its plane by more than two voxels (the
-// cell's surface point and x lie up to a voxel or so apart), the share of the bin's rays that miss it.
-float topology_unoccluded(vec3 p, vec3 x) {
+// How much of a light at p a surface inside x's cluster leaves to the receiver x: where the surface that rays from
+// x's cell along the bin of p - x meet (topology::Occluders) has p, and the point `reach` from x toward p where the
+// light enters the cluster, behind its plane (behind_occluder), the share of the bin's rays that miss it.
+float topology_unoccluded(vec3 p, vec3 x, float reach) {
   ivec3 cell = topology_cell(x);
   if (any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, textureSize(topology_occluder_cells, 0))))
     return 1.0;
@@ -113,7 +113,7 @@ float topology_unoccluded(vec3 p, vec3 x) {
   if (isinf(plane)) return 1.0;  // no surface
   vec3 normal =
       direction_from_octahedral(vec2(float((word >> 16) & 63u), float((word >> 22) & 63u)) / 63.0 * 2.0 - 1.0);
-  if (!behind_occluder(normal, plane, offset, topology_grid.origin_voxel.w)) return 1.0;
+  if (!behind_occluder(normal, plane, offset, reach, topology_grid.origin_voxel.w)) return 1.0;
   return 1.0 - float(word >> 28) / 15.0;
 }
 
@@ -121,12 +121,12 @@ float topology_unoccluded(vec3 p, vec3 x) {
 // without a cluster is walled in and lights nothing; a receiver without one has no visibility information and
 // takes every light but those a surface inside the cluster hides (as does the light's own cluster); clusters no
 // chain of gates joins pass their passage's share in the direction p-x where the
-// segment crosses its rectangle; otherwise all when the segment
-// p-x crosses a chain of gates from `from` to `to`, each inside its rectangle, found by a breadth-first walk
-// through at most TOPOLOGY_WALK_CLUSTERS clusters, and none when it does not.
+// segment crosses its rectangle; otherwise, when the segment p-x crosses a chain of gates from `from` to `to`, each
+// inside its rectangle, found by a breadth-first walk through at most TOPOLOGY_WALK_CLUSTERS clusters, what the
+// surfaces between x and the last gate leave (topology_unoccluded), and none when it does not.
 float topology_visibility(uint from, vec3 p, uint to, vec3 x) {
   if (from == TOPOLOGY_NO_CLUSTER) return 0.0;
-  if (to == TOPOLOGY_NO_CLUSTER || from == to) return topology_unoccluded(p, x);
+  if (to == TOPOLOGY_NO_CLUSTER || from == to) return topology_unoccluded(p, x, TOPOLOGY_WITHIN_CLUSTER);
   float passage = topology_passage(from, p, to, x);
   if (passage > 0.0) return passage;
   uint walk[TOPOLOGY_WALK_CLUSTERS];
@@ -143,7 +143,8 @@ float topology_visibility(uint from, vec3 p, uint to, vec3 x) {
       if (visited || !in_gate_cone(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, gate.axis_u.xyz,
                                    gate.centre_half_u.w, gate.normal_half_v.w, x))
         continue;
-      if (beyond == to) return 1.0;
+      if (beyond == to)
+        return topology_unoccluded(p, x, gate_entry_distance(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, x));
       if (walked < uint(TOPOLOGY_WALK_CLUSTERS)) walk[walked++] = beyond;
     }
   }

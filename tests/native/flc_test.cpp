@@ -317,13 +317,11 @@ TEST_F(FlcIndirectShadows, GrillePassesTheShareOfLightItsGapsLetThrough) {
 
 // Blocks inside one cluster: the topology counts every light of a receiver's own cluster, so the blocks of a
 // Cornell-like box cast no indirect shadow. The occluders (native/topology/occluders.h) hide the lights behind a
-// surface that rays from the receiver meet first. The share of the light that visibility takes, with Indirect
-// Shadows against the paper's FLC, is at least half the Topology method's with a shadow ray per VPL against none
-// (ratios, so that each method's own first-bounce bias cancels): 0.070 of 0.105 with the occluders (directions
-// are binned, 25 degrees wide); 0.043 by the clusters and gates alone. The Topology method's clusters and gates
-// take 0.051 of 0.102, at least 0.4 of it: they took 0.058 while the boundary between two joined clusters beyond
-// their skeleton gate had no gate (TopologyScenes.BoundariesOfJoinedClustersLieUnderTheirGates), which dropped
-// light shadow rays let through.
+// surface that rays from the receiver meet first, within its cluster and, for light that enters it through a gate,
+// before the gate. The share of the light that visibility takes, with Indirect Shadows against the paper's FLC and
+// with the Topology method's clusters and gates, is at least half what a shadow ray per VPL takes against none
+// (ratios, so that each method's own first-bounce bias cancels): of 0.102, FLC takes 0.115 and the Topology method
+// 0.091 (0.069 and 0.051 while the occluders stayed out of light that came through gates).
 TEST_F(FlcIndirectShadows, BlocksInsideAClusterCastIndirectShadows) {
   build_lit_open_box();
   const auto seen = [&](int method, int visibility) {
@@ -345,8 +343,8 @@ TEST_F(FlcIndirectShadows, BlocksInsideAClusterCastIndirectShadows) {
       "the light visibility keeps in the box: %.3f with FLC's Indirect Shadows, %.3f with the Topology "
       "method's clusters and gates, %.3f by shadow rays\n",
       kept, clustered, traced);
-  for (const auto& [estimate, least] : {std::pair{kept, 0.5}, std::pair{clustered, 0.4}}) {
-    EXPECT_GT(1.0 - estimate, least * (1.0 - traced));
+  for (const double estimate : {kept, clustered}) {
+    EXPECT_GT(1.0 - estimate, 0.5 * (1.0 - traced));
     EXPECT_GT(estimate, traced - 0.25 * (1.0 - traced));
   }
 }

@@ -106,7 +106,7 @@ float unoccluded(std::span<const Occluders::Hit> hits, glm::vec3 offset, float r
   const float distance = glm::length(offset);
   if (hits.empty() || !(distance > 0.0f)) return 1.0f;
   const Occluders::Hit& hit = hits[std::size_t(shared::topology_passage_bin(offset / distance))];
-  if (!std::isfinite(hit.distance) || !shared::behind_occluder(hit.normal, hit.plane, offset, reach, voxel))
+  if (!std::isfinite(hit.distance) || !shared::behind_occluder(hit.normal, hit.plane, offset, distance, reach, voxel))
     return 1.0f;
   return 1.0f - hit.share;
 }

@@ -52,12 +52,14 @@ PASSAGES_INLINE vec3 topology_passage_bin_direction(int bin, float s, float t) {
 // behind_occluder's reach for a light inside the receiver's cluster: no gate, the whole segment.
 #define TOPOLOGY_WITHIN_CLUSTER 3.0e38f
 
-// Whether a light at `offset` from a receiver (the light's position less the receiver's) lies behind the plane of
-// the surface that stands for its direction bin inside the receiver's cell (topology::Occluders::Hit's normal and
-// plane) by more than two voxels, the distance the cell's surface point and the receiver may lie apart. reach: how
-// far toward the light the segment enters the receiver's cluster through a gate (TOPOLOGY_WITHIN_CLUSTER for a
-// light inside it); that point must lie behind the plane too: a surface about as far is the gate's frame (the wall
-// around a doorway), which the gate's rectangle already accounts for.
-PASSAGES_INLINE bool behind_occluder(vec3 normal, float plane, vec3 offset, float reach, float voxel) {
-  return dot(normal, offset) * min(reach / length(offset), 1.0f) < plane - 2.0f * voxel;
+// Whether a light at `offset` from a receiver (the light's position less the receiver's; `distance` its length,
+// which the caller has) lies behind the plane of the surface that stands for its direction bin inside the
+// receiver's cell (topology::Occluders::Hit's normal and plane) by more than two voxels, the distance the cell's
+// surface point and the receiver may lie apart. reach: how far toward the light the segment enters the receiver's
+// cluster through a gate (TOPOLOGY_WITHIN_CLUSTER for a light inside it); that point must lie behind the plane
+// too: a surface about as far is the gate's frame (the wall around a doorway), which the gate's rectangle already
+// accounts for.
+PASSAGES_INLINE bool behind_occluder(vec3 normal, float plane, vec3 offset, float distance, float reach,
+                                     float voxel) {
+  return dot(normal, offset) * min(reach / distance, 1.0f) < plane - 2.0f * voxel;
 }

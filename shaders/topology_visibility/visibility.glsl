@@ -113,7 +113,7 @@ float topology_unoccluded(vec3 p, vec3 x, float reach) {
   if (isinf(plane)) return 1.0;  // no surface
   vec3 normal =
       direction_from_octahedral(vec2(float((word >> 16) & 63u), float((word >> 22) & 63u)) / 63.0 * 2.0 - 1.0);
-  if (!behind_occluder(normal, plane, offset, reach, topology_grid.origin_voxel.w)) return 1.0;
+  if (!behind_occluder(normal, plane, offset, distance, reach, topology_grid.origin_voxel.w)) return 1.0;
   return 1.0 - float(word >> 28) / 15.0;
 }
 

@@ -46,6 +46,10 @@ def viewport_run(blender, out_root, request):
                  "import bpy, sys; bpy.ops.bounce.demo_scene(resolution=128); "
                  "bpy.context.scene.bounce.viewport_samples = 2; "
                  "bpy.context.scene.bounce.viewport_flc_tiling = 1; "
+                 # Few VPLs and a coarse grid: what is checked is how the frame is drawn, not its light.
+                 "bpy.context.scene.bounce.viewport_topology_vpls = 64; "
+                 "bpy.context.scene.bounce.topology_resolution = 48; "
+                 "bpy.context.scene.bounce.viewport_flc_vpls_per_pixel = 16; "
                  f"bpy.context.scene.bounce.method = {method!r}; "
                  # No per-sample budget: Auto's plan must not depend on how fast this machine renders (a slow CI
                  # machine once fitted SSVP into the 150 ms default); test_auto.py covers the budget.

@@ -26,8 +26,7 @@ void expect_passes(const Repro& repro) {
 // 800 cases: about 2 minutes on the 2-core machine (300 cases took 40 s alone; the world and emitters of issue 16
 // made a case twice as long as the 17 a second first measured).
 TEST(SceneFuzz, FixedSeedCases) {
-  const uint64_t seed = environment_number("BOUNCE_FUZZ_SEED", 1),
-                 cases = environment_number("BOUNCE_FUZZ_CASES", 800);
+  const uint64_t seed = environment_number("BOUNCE_FUZZ_SEED", 1), cases = environment_number("BOUNCE_FUZZ_CASES", 800);
   for (uint64_t index = 0; index < cases; ++index) expect_passes({seed, index});
 }
 

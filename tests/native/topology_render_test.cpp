@@ -260,11 +260,18 @@ TEST_F(TopologyRender, SunThroughAWindowConvergesOverSamples) {
   const double one = relative_difference(indirect(1, 1), indirect(2, 1));
   const Image a = indirect(1, 256), b = indirect(2, 256);
   const double many = relative_difference(a, b);
-  std::printf("sun through a window: seeds differ by %.3f at 1 sample, %.3f at 256; mean indirect %.5f, %.5f\n", one,
-              many, mean_red(a), mean_red(b));
-  EXPECT_GT(mean_red(a), 0.0);
-  // Importance: 1.7 with as many VPLs traced uniformly, 0.87 from 8x candidates resampled uniformly.
-  EXPECT_LT(one, 0.7);
+  settings_.topology_visibility = 1;  // shadow rays: the light the same VPLs give
+  const double rays = mean_red(indirect(1, 256));
+  std::printf(
+      "sun through a window: seeds differ by %.3f at 1 sample, %.3f at 256; mean indirect %.5f, %.5f; "
+      "shadow rays %.5f\n",
+      one, many, mean_red(a), mean_red(b), rays);
+  // VPLs whose few voxels in front are solid at 64^3 light the room too: counted as walled in, they took 12 % of
+  // its light (0.03509 against the rays' 0.03999).
+  EXPECT_NEAR(mean_red(a) / rays, 1.0, 0.08);
+  // 1.7 with as many VPLs traced uniformly; 0.93 with shadow rays too, whose light includes those few bright VPLs
+  // (0.42 without them).
+  EXPECT_LT(one, 1.0);
   EXPECT_LT(many, 0.0625 * one);
 }
 

@@ -111,19 +111,19 @@ enum class Test : uint8_t {
   kNone,       // the same cluster (the occluders inside it), or no indirect visibility at all
   kGates,      // reaches(): the segment must cross gates into the point's cluster
   kShadowRay,  // a shadow ray: the Shadow Rays mode, and where the topology cannot tell (below)
-  kDark,       // never: the VPL is walled in (it has no cluster)
 };
 Test visibility_test(int topology_visibility, const topology::Topology& topo, uint32_t from, uint32_t to) {
   if (topology_visibility == 2) return Test::kNone;
   if (topology_visibility == 1) return Test::kShadowRay;
-  if (from == kNoNode) return Test::kDark;
-  if (from == to) return Test::kNone;
-  // A point outside every cluster (outside the grid, or in a voxel the grid counts as solid): the topology says
-  // nothing of its visibility, and lighting it with every light let a closed room's edges glow with the light of
-  // the room beside it. Clusters no chain of gates joins: the opening between them may be narrower than a voxel
-  // (blinds whose gaps the grid closes, which kept out half of a sunlit room's indirect light) or not be there
-  // at all (a solid wall); the renderer casts those rays only for VPLs whose light reached a probe that way.
-  if (to == kNoNode || !topo.joined(from, to)) return Test::kShadowRay;
+  if (from == to && from != kNoNode) return Test::kNone;
+  // A point or a VPL outside every cluster (outside the grid, or where the voxels in front of it are solid for
+  // the lookup's few steps: a sill under the bottom rail of a blind at 256^3, whose light the room lost when such
+  // VPLs counted as walled in): the topology says nothing of its visibility, and lighting it with every light let
+  // a closed room's edges glow with the light of the room beside it. Clusters no chain of gates joins: the opening
+  // between them may be narrower than a voxel (blinds whose gaps the grid closes, which kept out half of a sunlit
+  // room's indirect light) or not be there at all (a solid wall). The renderer casts those rays only for VPLs
+  // whose light reached a probe that way (lit_by_ray).
+  if (from == kNoNode || to == kNoNode || !topo.joined(from, to)) return Test::kShadowRay;
   return Test::kGates;
 }
 
@@ -320,20 +320,13 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
       const Test test = visibility_test(settings.topology_visibility, topo, candidate_cluster[i], probe.cluster);
       Reach reach = Reach::kYes;
       float entry = 0.0f;
-      switch (test) {
-        case Test::kDark:
-          continue;
-        case Test::kGates: {
-          reach = reaches(topo, graph, candidate_cluster[i], vpl.position, probe.cluster, probe.position, entry);
-          if (reach == Reach::kNo || (reach == Reach::kIfRayClear && !clear())) continue;
-          break;
-        }
-        case Test::kShadowRay:
-          if (!clear()) continue;
-          lit_by_ray[i] = 1;
-          break;
-        case Test::kNone:
-          break;
+      if (test == Test::kGates) {
+        reach = reaches(topo, graph, candidate_cluster[i], vpl.position, probe.cluster, probe.position, entry);
+        if (reach == Reach::kNo || (reach == Reach::kIfRayClear && !clear())) continue;
+      }
+      if (test == Test::kShadowRay) {
+        if (!clear()) continue;
+        lit_by_ray[i] = 1;
       }
       const float share = clusters_and_gates ? occluder_share(test, reach, entry, probe.occluder_hits,
                                                               vpl.position - probe.position, voxel)
@@ -537,9 +530,8 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         const uint32_t cluster = group_cluster[g];
         for (std::size_t l = 0; l < vpls_.size(); ++l) {
           const Test test = visibility_test(settings.topology_visibility, topo, vpl_cluster_[l], cluster);
-          if (test == Test::kDark) continue;
-          // Between clusters no gates join, only the VPLs whose light reached a probe that way: a solid wall
-          // costs no rays at shading.
+          // Rays only for the VPLs whose light reached a probe past the clusters and gates: a solid wall costs
+          // no rays at shading.
           if (test == Test::kShadowRay && cluster != kNoNode && !vpl_lit_by_ray_[l]) continue;
           GroupLights& group = assigned[g];
           if (test != Test::kGates) {

@@ -118,10 +118,10 @@ float topology_unoccluded(vec3 p, vec3 x, float reach) {
 }
 
 // How much of a light at p in cluster `from` reaches x in cluster `to`, as on the CPU (cpu::reaches): a light
-// without a cluster is walled in and lights nothing; a receiver without one has no visibility information and
-// takes every light but those a surface inside the cluster hides (as does the light's own cluster); clusters no
-// chain of gates joins pass their passage's share in the direction p-x where the
-// segment crosses its rectangle; otherwise, when the segment p-x crosses a chain of gates from `from` to `to`, each
+// without a cluster lights nothing (the CPU casts it a shadow ray; there are no rays here); a receiver without
+// one has no visibility information and takes every light but those a surface inside the cluster hides (as does
+// the light's own cluster); clusters no chain of gates joins pass their passage's share in the direction p-x where
+// the segment crosses its rectangle; otherwise, when the segment p-x crosses a chain of gates from `from` to `to`, each
 // inside its rectangle, found by a breadth-first walk through at most TOPOLOGY_WALK_CLUSTERS clusters, what the
 // surfaces between x and the last gate leave (topology_unoccluded), and none when it does not.
 float topology_visibility(uint from, vec3 p, uint to, vec3 x) {

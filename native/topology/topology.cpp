@@ -4,11 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <numeric>
 
 #include <glm/geometric.hpp>
 
 #include "distance_transform.h"
+#include "gate_surfaces.h"
 #include "voxelize.h"
 
 namespace bounce::topology {
@@ -114,13 +116,22 @@ constexpr float kStart[] = {0.0f, 0.1f, 0.2f, 0.9f, 0.95f, 0.98f, 1.0f};
 
 void estimate_from_rays(Topology& t, std::span<const glm::vec3> soup, const RayQueries& rays,
                         const CancelCheck& cancelled) {
+  // The gates first: the passages are estimated between the clusters they leave unjoined.
+  if (rays.first_hit && !t.occluders_estimated) {
+    fit_gates_to_surfaces(t.grid.shape, rays.first_hit, t.gates, cancelled);
+    // A second opening lies beside a skeleton gate of its pair (add_boundary_gates): without that gate, left out
+    // for being narrow, it joins nothing.
+    std::vector<Gate> trusted;
+    std::copy_if(t.gates.begin(), t.gates.end(), std::back_inserter(trusted),
+                 [](const Gate& g) { return !g.needs_ray(); });
+    t.component = gate_components(t.cluster_count, trusted);
+    std::erase_if(t.gates, [&](const Gate& g) { return g.needs_ray() && !t.joined(g.clusters[0], g.clusters[1]); });
+    t.occluders = estimate_occluders(t, soup, rays.first_hit, cancelled);
+    t.occluders_estimated = true;
+  }
   if (rays.clear && !t.passages_estimated) {
     t.passages = estimate_passages(t, soup, rays.clear, cancelled);
     t.passages_estimated = true;
-  }
-  if (rays.first_hit && !t.occluders_estimated) {
-    t.occluders = estimate_occluders(t, soup, rays.first_hit, cancelled);
-    t.occluders_estimated = true;
   }
 }
 

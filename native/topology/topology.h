@@ -49,8 +49,8 @@ struct Topology {
   // Inside a cluster: per surface cell and direction bin, the surface that rays meet first (estimate_occluders;
   // occluders.h). Empty when not estimated.
   Occluders occluders;
-  bool passages_estimated = false;  // whether they were estimated (they may still be empty)
-  bool occluders_estimated = false;
+  bool passages_estimated = false;     // whether they were estimated (they may still be empty)
+  bool occluders_estimated = false;    // and the gates fitted to the surfaces (gate_surfaces.h), from the same query
   std::vector<uint32_t> node_cluster;  // per original skeleton node (node_clusters)
   std::array<double, size_t(BuildStage::Count)> stage_ms{};
 
@@ -77,7 +77,8 @@ struct Topology {
 };
 
 // A ray tracer's answers, for the estimates made from rays: passages (passages.h) from `clear`, occluders
-// (occluders.h) from `first_hit`; each estimate is made when its query is given.
+// (occluders.h) and the gates' fit to the surfaces (gate_surfaces.h) from `first_hit`; each estimate is made when
+// its query is given.
 struct RayQueries {
   SegmentClear clear;
   FirstHit first_hit;

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <iterator>
 #include <numeric>
 
 #include <glm/geometric.hpp>
@@ -17,7 +16,8 @@ namespace bounce::topology {
 
 namespace {
 
-// Per cluster: the smallest cluster of its component of the graph the gates make.
+// Per cluster: the smallest cluster of its component of the graph the gates make. Second openings
+// (Gate::needs_ray) lie beside a skeleton gate of their pair (add_boundary_gates) and join nothing it does not.
 std::vector<uint32_t> gate_components(uint32_t cluster_count, std::span<const Gate> gates) {
   std::vector<uint32_t> component(cluster_count);
   std::iota(component.begin(), component.end(), 0u);
@@ -26,7 +26,7 @@ std::vector<uint32_t> gate_components(uint32_t cluster_count, std::span<const Ga
     return c;
   };
   for (const Gate& gate : gates)
-    if (gate.clusters[0] < cluster_count && gate.clusters[1] < cluster_count) {
+    if (!gate.needs_ray() && gate.clusters[0] < cluster_count && gate.clusters[1] < cluster_count) {
       const uint32_t a = root(gate.clusters[0]), b = root(gate.clusters[1]);
       component[std::max(a, b)] = std::min(a, b);
     }
@@ -119,12 +119,8 @@ void estimate_from_rays(Topology& t, std::span<const glm::vec3> soup, const RayQ
   // The gates first: the passages are estimated between the clusters they leave unjoined.
   if (rays.first_hit && !t.occluders_estimated) {
     fit_gates_to_surfaces(t.grid.shape, rays.first_hit, t.gates, cancelled);
-    // A second opening lies beside a skeleton gate of its pair (add_boundary_gates): without that gate, left out
-    // for being narrow, it joins nothing.
-    std::vector<Gate> trusted;
-    std::copy_if(t.gates.begin(), t.gates.end(), std::back_inserter(trusted),
-                 [](const Gate& g) { return !g.needs_ray(); });
-    t.component = gate_components(t.cluster_count, trusted);
+    // A second opening whose skeleton gate was left out for being narrow joins nothing.
+    t.component = gate_components(t.cluster_count, t.gates);
     std::erase_if(t.gates, [&](const Gate& g) { return g.needs_ray() && !t.joined(g.clusters[0], g.clusters[1]); });
     t.occluders = estimate_occluders(t, soup, rays.first_hit, cancelled);
     t.occluders_estimated = true;

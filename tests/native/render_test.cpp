@@ -1,6 +1,7 @@
 // End-to-end renders through the C API on llvmpipe: determinism, tiling, crops, textures and cut-outs,
 // emission, hard inputs, progressive frames, cancellation and several engines at once.
 #include <chrono>
+#include <ostream>
 #include <thread>
 
 #include "render_fixture.h"
@@ -70,6 +71,8 @@ struct TiledCase {
   int32_t method;
   bool take_turns;
 };
+// gtest would print the case's bytes, its padding among them: test names that changed from one listing to the next.
+void PrintTo(const TiledCase& c, std::ostream* os) { *os << "method " << c.method << ", take_turns " << c.take_turns; }
 class TiledRender : public Render, public ::testing::WithParamInterface<TiledCase> {};
 INSTANTIATE_TEST_SUITE_P(Methods, TiledRender,
                          ::testing::Values(TiledCase{BOUNCE_METHOD_FLC, false}, TiledCase{BOUNCE_METHOD_SSVP, false},

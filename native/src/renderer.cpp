@@ -150,10 +150,16 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   const uint32_t seed = hash_combine(static_cast<uint32_t>(settings.seed), static_cast<uint32_t>(camera.frame));
   const glm::vec2 jitter_rotation(hash_to_unit(hash_combine(seed, 101)), hash_to_unit(hash_combine(seed, 102)));
 
+  // Tiles of one size, at most tile_size a side, so that every pass keeps its targets across a sample's tiles (the
+  // smaller tiles at the frame's edges made each pass reallocate them twice a sample). The last column and row reach
+  // past the frame by fewer pixels than there are columns or rows; those pixels are rendered and left out.
+  const auto ceil_div = [](int a, int b) { return (a + b - 1) / b; };
+  const int columns = ceil_div(x1 - x0, settings.tile_size), rows = ceil_div(y1 - y0, settings.tile_size);
+  const int tile_width = ceil_div(x1 - x0, columns), tile_height = ceil_div(y1 - y0, rows);
   std::vector<Tile> tiles;
-  for (int y = y0; y < y1; y += settings.tile_size)
-    for (int x = x0; x < x1; x += settings.tile_size)
-      tiles.push_back({x, y, std::min(settings.tile_size, x1 - x), std::min(settings.tile_size, y1 - y)});
+  for (int row = 0; row < rows; ++row)
+    for (int column = 0; column < columns; ++column)
+      tiles.push_back({x0 + column * tile_width, y0 + row * tile_height, tile_width, tile_height});
 
   auto frame = std::make_shared<Frame>();
   const uint32_t aov_bits = method_aovs(settings.method);

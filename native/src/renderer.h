@@ -1,6 +1,6 @@
-// Renders a frame on the render thread: the average of settings.samples progressive samples, each over tiles of
-// at most settings.tile_size pixels. A sample first does what does not depend on the view, once for all its tiles:
-// [FLC VPLs -> their lighting by each light's shadow map]; then each tile runs G-buffer -> direct light (shadow
+// Renders a frame on the render thread: the average of settings.samples progressive samples, each over tiles of one
+// size, at most settings.tile_size pixels. A sample first does what does not depend on the view, once for all its
+// tiles: [FLC VPLs -> their lighting by each light's shadow map]; then each tile runs G-buffer -> direct light (shadow
 // maps, rendered by the first tile that needs them and reused by the others; or Embree rays) -> [pixels'
 // visibility clusters] -> [FLC splat | SSVP] -> [near field] -> compose. The Topology method renders on the CPU instead
 // (cpu::TopologyRenderer).

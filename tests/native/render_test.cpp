@@ -50,16 +50,16 @@ TEST_F(Render, TilesAndCropsMatchTheWholeImage) {
   // Tiles differ from the whole image only by float rounding in the projection.
   auto close = [](float a, float b) { return std::abs(a - b) <= 1e-3f * std::max(1.0f, std::abs(b)); };
   for (std::size_t i = 0; i < whole.values.size(); ++i) ASSERT_TRUE(close(tiled.values[i], whole.values[i])) << i;
-  camera_.crop[0] = 10;
-  camera_.crop[1] = 20;
-  camera_.crop[2] = 50;
-  camera_.crop[3] = 60;
+  camera_.crop[0] = 5;  // 85 x 59: two tiles of 43 x 59, the second reaching a pixel past the crop's right edge
+  camera_.crop[1] = 3;
+  camera_.crop[2] = 90;
+  camera_.crop[3] = 62;
   const Image crop = render();
-  ASSERT_EQ(crop.width, 40);
-  ASSERT_EQ(crop.height, 40);
-  for (int y = 0; y < 40; ++y)
-    for (int x = 0; x < 40; ++x)
-      for (int c = 0; c < 4; ++c) ASSERT_TRUE(close(crop.at(x, y)[c], whole.at(x + 10, y + 20)[c]));
+  ASSERT_EQ(crop.width, 85);
+  ASSERT_EQ(crop.height, 59);
+  for (int y = 0; y < crop.height; ++y)
+    for (int x = 0; x < crop.width; ++x)
+      for (int c = 0; c < 4; ++c) ASSERT_TRUE(close(crop.at(x, y)[c], whole.at(x + 5, y + 3)[c]));
 }
 
 // Tiles share each sample's shadow maps and its VPLs (Forward Light Cuts', and SSVP's with their clusters and
@@ -89,7 +89,7 @@ TEST_P(TiledRender, TiledFrameEqualsTheUntiledOne) {
                 {glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 0, 1)),
                  glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0, 2, 2)), kPi / 2, glm::vec3(1, 0, 0))});
   set_camera(glm::lookAt(glm::vec3(0, -6, 4), glm::vec3(0), glm::vec3(0, 0, 1)),
-             glm::perspective(0.8f, 4.0f / 3.0f, 0.1f, 100.0f), 128, 96);
+             glm::perspective(0.8f, 151.0f / 96.0f, 0.1f, 100.0f), 151, 96);
   settings_.method = GetParam().method;
   settings_.flc_visibility = 0;
   settings_.samples = 8;
@@ -102,7 +102,7 @@ TEST_P(TiledRender, TiledFrameEqualsTheUntiledOne) {
   seconds();  // compiles the shaders and builds what a scene keeps
   const double untiled_seconds = seconds();
   const Image direct = read(BOUNCE_AOV_DIRECT), indirect = read(BOUNCE_AOV_INDIRECT);
-  settings_.tile_size = 64;  // 2 x 2 tiles
+  settings_.tile_size = 64;  // 3 x 2 tiles of 51 x 48, the last column two pixels past the frame
   if (GetParam().take_turns) setenv("BOUNCE_INJECT_FAULT", "low-gpu-memory", 1);
   seconds();  // allocates the tiles' passes
   const double tiled_seconds = seconds();

@@ -93,14 +93,16 @@ void ComposePass::read(int slot, int samples, Frame& frame, int x, int y, Into i
   const float* texels = readback_.read(images, targets.width, targets.height);
   const std::size_t pixels = std::size_t(targets.width) * std::size_t(targets.height);
   const float scale = 1.0f / static_cast<float>(samples);
-  parallel_for(std::size_t(targets.height), 0, 16, [&](std::size_t row) {
+  // A tile at the frame's right or bottom edge may reach past it (Renderer::render's tiles): those texels stay out.
+  const int columns = std::min(targets.width, frame.width - x), rows = std::min(targets.height, frame.height - y);
+  parallel_for(std::size_t(std::max(rows, 0)), 0, 16, [&](std::size_t row) {
     const float* image = texels;
     for (std::size_t a = 0; a < aovs.size(); ++a) {
       const int aov = aovs[a], channels = bounce_aov_channels(aov), stride = images[a].components;
       const bool depth = aov == BOUNCE_AOV_DEPTH;
       const float* src = image + row * std::size_t(targets.width) * stride;
       float* dst = frame.aovs[aov].data() + ((std::size_t(y) + row) * frame.width + x) * channels;
-      for (int col = 0; col < targets.width; ++col, src += stride, dst += channels)
+      for (int col = 0; col < columns; ++col, src += stride, dst += channels)
         for (int c = 0; c < channels; ++c) {
           const float value = depth ? src[c] : src[c] * scale;
           if (into == Into::Replace)

@@ -95,7 +95,7 @@ void ComposePass::read(int slot, int samples, Frame& frame, int x, int y, Into i
   const float scale = 1.0f / static_cast<float>(samples);
   // A tile at the frame's right or bottom edge may reach past it (Renderer::render's tiles): those texels stay out.
   const int columns = std::min(targets.width, frame.width - x), rows = std::min(targets.height, frame.height - y);
-  parallel_for(std::size_t(std::max(rows, 0)), 0, 16, [&](std::size_t row) {
+  parallel_for(std::size_t(rows), 0, 16, [&](std::size_t row) {
     const float* image = texels;
     for (std::size_t a = 0; a < aovs.size(); ++a) {
       const int aov = aovs[a], channels = bounce_aov_channels(aov), stride = images[a].components;

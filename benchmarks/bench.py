@@ -255,7 +255,7 @@ def main(argv=None):
     else:
         records = []
         for index, (scene, width, height) in enumerate(scenes if suite.script is None else (), 1):
-            jobs = jobs_for(scene, width, height, configs, args, suite, out / "renders", errors)
+            jobs = jobs_for(scene, width, height, configs, args, suite, out / "renders", errors or suite.images)
             if errors:
                 jobs = [job for r in references for job in r.missing_jobs(scene, [(width, height)])] + jobs
             if cpu_references is not None:

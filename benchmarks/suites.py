@@ -37,6 +37,7 @@ class Suite:
     script_config: dict = field(default_factory=dict)  # of the render jobs, and its config ("quick": overrides)
     gui: bool = False                               # the script runs in Blender's GUI on an Xvfb screen of the
                                                     # scene's size
+    images: bool = False                            # write each configuration's EXR even without errors
     report: object = None
 
 
@@ -486,6 +487,75 @@ def topology_report(ctx, records, _stages):
                                "view (sRGB, clamped), in 0..255 units, the paper's measure.")
 
 
+def _tiling(frame, tile_size):
+    """(tiles, 'W x H' of a tile) of a frame side pair in tiles of one size, at most tile_size a side, as the
+    renderer cuts it (native/src/renderer.cpp)."""
+    (width, height), counts = frame, [-(-side // tile_size) for side in frame]
+    return counts[0] * counts[1], f"{-(-width // counts[0])}x{-(-height // counts[1])}"
+
+
+def tiling_report(ctx, records, _stages):
+    """Each tiled render against the same configuration in one tile: render time over the untiled one's, and the
+    difference of its images, next to the difference another seed makes (the noise it must stay within)."""
+    rows = ctx.summarise(records, ["scene", "method", "width", "height", "tile_size", "seed"])
+    exrs = {(r["scene"], r["method"], r.get("params", {}).get("tile_size"), r.get("params", {}).get("seed")): r["exr"]
+            for r in records if r.get("exr") and r.get("role") == "measure"}
+    whole = {}
+    for row in rows:
+        if row.get("seed") is None and row["tile_size"] >= max(row["width"], row["height"]):
+            whole[(row["scene"], row["method"])] = row
+    table = []
+    for row in sorted(rows, key=lambda r: (r["scene"], r["method"], -r["tile_size"], r.get("seed") or 0)):
+        base = whole.get((row["scene"], row["method"]))
+        if base is None:
+            continue
+        tiles, tile = _tiling((row["width"], row["height"]), row["tile_size"])
+        out = {"scene": row["scene"], "method": row["method"], "frame": f"{row['width']}x{row['height']}",
+               "tile_size": row["tile_size"], "tiles": tiles, "tile": tile,
+               "seed": row.get("seed") if row.get("seed") is not None else "-",
+               "render s": row["render_seconds"], "wall s": row["wall_seconds"],
+               "render / untiled": row["render_seconds"] / base["render_seconds"]}
+        mine = exrs.get((row["scene"], row["method"], row["tile_size"], row.get("seed")))
+        theirs = exrs.get((row["scene"], row["method"], base["tile_size"], None))
+        if mine and theirs and mine != theirs:
+            image, untiled = images.load(mine), images.load(theirs)
+            scale = max(float(untiled["direct"].max()), 1e-30)
+            out["direct max |diff| / max"] = float(abs(image["direct"] - untiled["direct"]).max()) / scale
+            errors = images.compare(image, untiled, "", parts=("combined", "indirect"))
+            out["combined relMSE 4x4"] = errors["combined_rel_mse_4x4"]
+            if "indirect_ratio" in errors:
+                out["indirect mean / untiled"] = errors["indirect_ratio"]
+                out["indirect relMSE 4x4"] = errors["indirect_rel_mse_4x4"]
+        table.append(out)
+    noise = {(r["scene"], r["method"]): r for r in table if r["seed"] != "-"}
+    for r in table:
+        other_seed = noise.get((r["scene"], r["method"]))
+        if r["seed"] == "-" and r["tiles"] > 1:
+            within = other_seed is None or r.get("combined relMSE 4x4", 0) <= other_seed.get("combined relMSE 4x4", 0)
+            r["within noise"] = "yes" if within else "NO"
+            r["at most 1.2x"] = "yes" if r["render / untiled"] <= 1.2 else "NO"
+    series = {}
+    for r in table:
+        if r["seed"] == "-":
+            xs, fields = series.setdefault(f"{r['scene']} {r['method']}", ([], {}))
+            xs.append(r["tiles"])
+            fields.setdefault("render / untiled", []).append(r["render / untiled"])
+            fields.setdefault("render s", []).append(r["render s"])
+    report.plot_lines(series, ctx.out / f"{ctx.suite.name}.png", ctx.title, "tiles in the frame",
+                      [("render time over the untiled render's", "render / untiled"), ("render s", "render s")],
+                      logx=True)
+    tiled = [r for r in table if "within noise" in r]
+    return "\n".join([
+        report.markdown(table, list(dict.fromkeys(k for r in table for k in r))), "",
+        f"Tiled renders within 1.2x of the untiled render's time: "
+        f"{sum(r['at most 1.2x'] == 'yes' for r in tiled)} of {len(tiled)}; images within noise: "
+        f"{sum(r['within noise'] == 'yes' for r in tiled)} of {len(tiled)}. The untiled render is the same "
+        "configuration with a tile as large as the frame; the row with a seed is that untiled render with another "
+        "seed, whose difference is the noise a tiled image's difference is held to. Render time is the core's "
+        "(median of the repeats), scene sync left out; tiles are of one size, the last column and row reaching "
+        "past the frame when the tile size does not divide it."])
+
+
 _BUDGET_SCENES = [("cornell", 256, 256), ("sponza", 480, 270), ("two-rooms", 480, 270), ("two-rooms-wall", 480, 270),
                   (budget.LIT_ROOM, 480, 270), ("sunlit-interior", 480, 270),
                   # lit by emission or the world alone, or by the world added (issue 16)
@@ -570,6 +640,14 @@ SUITES = {s.name: s for s in (
           [("cornell", 800, 500)], [("cornell", 640, 400)], errors=False, script="viewport_budget.py", gui=True,
           script_config={"budgets": [150, 300, 600], "samples": 24, "quick": {"samples": 8}},
           report=viewport_budget_report),
+    Suite("tiling", "tiled renders against one tile: render time over the untiled render's and the difference of "
+          "the images, at tile sizes that do and do not divide the frame", "DIRECT",
+          [("sunlit-interior", 1000, 600)], [("cornell", 520, 300)],
+          sets={"samples": [2]}, quick_sets={"samples": [1]}, configs=[
+              {"method": method, **tiling} for method in ("DIRECT", "FLC", "SSVP")
+              for tiling in ({"tile_size": 4096}, {"tile_size": 4096, "seed": 1}, {"tile_size": 512},
+                             {"tile_size": 384}, {"tile_size": 256})],
+          errors=False, images=True, report=tiling_report),
     Suite("budget", "error budget per light path against Cycles (direct, first and second bounce, combined): the "
           "ratio of means over the image and its thirds and relMSE, per method, a picture of the signed errors, a "
           "bias check, and the light leaking into a closed room", "DIRECT", _BUDGET_SCENES, _QUICK_BUDGET_SCENES,

@@ -129,16 +129,17 @@ std::vector<Vpl> make_vpls(const Scene& scene, Mode mode, const Options& options
   return vpls;
 }
 
-glm::vec3 vpl_radiance(const Vpl& vpl, glm::vec3 x) {
+glm::vec3 vpl_radiance(const Vpl& vpl, glm::vec3 x, bool cosine_lobe) {
   const glm::vec3 to_x = x - vpl.position;
   const float distance = glm::length(to_x);
   if (!(distance > 0.0f)) return glm::vec3(0.0f);
   const float cos_side = glm::dot(vpl.normal, to_x) / distance;
   const glm::vec3 e = cos_side >= 0.0f ? vpl.irradiance_front : vpl.irradiance_back;
-  return vpl.albedo * e * (3.0f / (2.0f * kPi)) * std::abs(cos_side);  // Eq. 6, on the side facing x
+  // On the side facing x.
+  return cosine_lobe ? vpl.albedo * e * (3.0f / (2.0f * kPi)) * std::abs(cos_side) : vpl.albedo * e / kPi;
 }
 
-glm::vec3 transfer(const Vpl& vpl, const Receiver& receiver, float epsilon) {
+glm::vec3 transfer(const Vpl& vpl, const Receiver& receiver, const Options& options) {
   const glm::vec3 to_x = receiver.position - vpl.position;
   const float distance = glm::length(to_x);
   if (!(distance > 0.0f)) return glm::vec3(0.0f);  // no direction: the light is on the receiver
@@ -146,13 +147,14 @@ glm::vec3 transfer(const Vpl& vpl, const Receiver& receiver, float epsilon) {
   const float cos_x = std::max(0.0f, -glm::dot(receiver.normal, dir));
   if (cos_x == 0.0f) return glm::vec3(0.0f);
   const float cos_y = std::abs(glm::dot(vpl.normal, dir));  // <n_i, y x>^+ of the side facing x
-  const float d = std::max(epsilon, distance);
-  return vpl_radiance(vpl, receiver.position) * receiver.albedo * (cos_x * cos_y / (kPi * d * d));  // Eq. 5
+  const float d = std::max(options.epsilon, distance);
+  return vpl_radiance(vpl, receiver.position, options.cosine_lobe) * receiver.albedo *
+         (cos_x * cos_y / (kPi * d * d));  // Eq. 5
 }
 
-glm::vec3 gather(std::span<const Vpl> vpls, const Receiver& receiver, float epsilon) {
+glm::vec3 gather(std::span<const Vpl> vpls, const Receiver& receiver, const Options& options) {
   glm::dvec3 sum(0.0);
-  for (const Vpl& vpl : vpls) sum += glm::dvec3(transfer(vpl, receiver, epsilon)) * double(vpl.area);  // Eq. 4
+  for (const Vpl& vpl : vpls) sum += glm::dvec3(transfer(vpl, receiver, options)) * double(vpl.area);  // Eq. 4
   return glm::vec3(sum);
 }
 
@@ -161,7 +163,7 @@ std::vector<glm::vec3> indirect(const Scene& scene, std::span<const Receiver> re
   const std::vector<Vpl> vpls = make_vpls(scene, mode, options);
   std::vector<glm::vec3> out(receivers.size());
   parallel_for(receivers.size(), options.threads, 1,
-               [&](std::size_t i) { out[i] = gather(vpls, receivers[i], options.epsilon); });
+               [&](std::size_t i) { out[i] = gather(vpls, receivers[i], options); });
   return out;
 }
 
@@ -214,7 +216,7 @@ Image render(const Scene& scene, const BounceCamera& camera, Mode mode, const Op
       receiver.normal = glm::dot(hit->normal, glm::vec3(dir)) > 0.0f ? -hit->normal : hit->normal;
       receiver.albedo = glm::vec3(1.0f);
       const std::size_t pixel = row * std::size_t(width) + std::size_t(column);
-      image.incident[pixel] = gather(vpls, receiver, options.epsilon);
+      image.incident[pixel] = gather(vpls, receiver, options);
       image.albedo[pixel] = triangle.albedo;
       image.covered[pixel] = 1;
     }

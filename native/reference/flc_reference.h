@@ -53,6 +53,7 @@ struct Options {
   float points_per_unit_area = 100.0f;  // continuous(): sample density over the surfaces
   int min_points_per_triangle = 1;      // continuous(): even the smallest triangle is sampled this often
   uint64_t seed = 0;                    // every random choice derives from it: same seed, same result
+  bool cosine_lobe = false;             // Eq. 6's radiance (FLC's Cosine-Lobe Lights) instead of Lambertian
   int threads = 0;                      // 0: std::thread::hardware_concurrency()
 };
 
@@ -86,12 +87,13 @@ enum class Mode {
 // (stratified), weighted area / m^2. Degenerate triangles and those of zero albedo make no light.
 std::vector<Vpl> make_vpls(const Scene& scene, Mode mode, const Options& options);
 
-// Eq. 6: radiance leaving the light toward x (two-sided: the side facing x, with that side's irradiance).
-glm::vec3 vpl_radiance(const Vpl& vpl, glm::vec3 x);
+// Radiance leaving the light toward x (two-sided: the side facing x, with that side's irradiance): Lambertian,
+// albedo E / pi, or with `cosine_lobe` Eq. 6's albedo E 3 / (2 pi) cos.
+glm::vec3 vpl_radiance(const Vpl& vpl, glm::vec3 x, bool cosine_lobe);
 // Eq. 5: H(t_i, x, n_x), the receiver's outgoing radiance per unit area of the light (albedo included).
-glm::vec3 transfer(const Vpl& vpl, const Receiver& receiver, float epsilon);
+glm::vec3 transfer(const Vpl& vpl, const Receiver& receiver, const Options& options);
 // Eq. 4: sum of transfer * area over the lights: the receiver's outgoing indirect radiance.
-glm::vec3 gather(std::span<const Vpl> vpls, const Receiver& receiver, float epsilon);
+glm::vec3 gather(std::span<const Vpl> vpls, const Receiver& receiver, const Options& options);
 
 // Outgoing indirect radiance at each receiver (parallel over receivers).
 std::vector<glm::vec3> indirect(const Scene& scene, std::span<const Receiver> receivers, Mode mode,

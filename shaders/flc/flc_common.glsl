@@ -22,6 +22,7 @@ layout(std140, binding = 5) uniform FlcParams {
   float scene_radius;
   float d0;                    // D_0 = D_near (Eq. 1, 18)
   int visibility;              // 1: Indirect Shadows (shaders/topology_visibility/visibility.glsl)
+  int cosine_lobe;             // 1: Eq. 6's radiance, in proportion to the cosine at the light; 0: Lambertian
 } flc;
 
 // One virtual point light: a triangle that survived Alg. 1, its point y_i and level k, and the direct

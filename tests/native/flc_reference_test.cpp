@@ -358,8 +358,8 @@ double parallel_kernel(double h, double u0, double u1, double v0, double v1) {
 }
 
 // Two parallel facing squares at distance h, the lower one lit by an unshadowed sun from straight above (E
-// uniform, its upper side). At x on the upper one, facing down: cos_x = cos_y = h / d, and Eq. 4-6 give
-// L = rho_e rho_x E 3 / (2 pi^2) * integral of h^3 / d^5 over the lower square.
+// uniform, its upper side). At x on the upper one, facing down: cos_x = cos_y = h / d, and Eq. 4-6 with the
+// paper's cosine lobe give L = rho_e rho_x E 3 / (2 pi^2) * integral of h^3 / d^5 over the lower square.
 TEST(FlcReferenceTransfer, ParallelSquaresMatchIntegral) {
   const float half = 1.0f, h = 1.0f, sun = 3.0f, rho_e = 0.7f, rho_x = 0.6f;
   std::vector<Triangle> triangles;
@@ -373,6 +373,7 @@ TEST(FlcReferenceTransfer, ParallelSquaresMatchIntegral) {
                                            {{-0.9f, 0.8f, h}, {0, 0, -1}, glm::vec3(rho_x)}};
   Options options;
   options.points_per_unit_area = 2000.0f;
+  options.cosine_lobe = true;
   const std::vector<glm::vec3> got = continuous(scene, receivers, options);
   double worst = 0.0;
   for (std::size_t i = 0; i < receivers.size(); ++i) {
@@ -412,26 +413,31 @@ TEST(FlcReferenceTransfer, ParallelSquaresMatchIntegral) {
   }
 }
 
-// A tiny patch: many_lights is Eq. 5 and 6 evaluated once at the patch centre, times its area, to O((s/d)^2).
+// A tiny patch: many_lights is Eq. 5 and the light's radiance (Lambertian, or Eq. 6's lobe) evaluated once at the
+// patch centre, times its area, to O((s/d)^2).
 TEST(FlcReferenceTransfer, TinyPatchIsOneVpl) {
-  const float s = 0.01f, sun = 2.0f, rho_e = 0.5f, rho_x = 0.9f;
-  std::vector<Triangle> triangles;
-  add_quad(triangles, glm::vec3(0.0f), glm::vec3(s / 2, 0, 0), glm::vec3(0, s / 2, 0), glm::vec3(rho_e));
-  const Scene scene(triangles, {make_light(BOUNCE_LIGHT_SUN, glm::vec3(0.0f), glm::vec3(sun))});
-  const glm::vec3 x(0.3f, 0.2f, 1.0f), n_x = glm::normalize(glm::vec3(-0.2f, 0.1f, -1.0f));
-  const glm::vec3 w = glm::normalize(x);  // y -> x, with y the patch centre
-  const double d = glm::length(x);
-  const double radiance = rho_e * sun * 3.0 / (2.0 * kPi) * w.z;                               // Eq. 6
-  const double expected = radiance * rho_x * glm::dot(n_x, -w) * w.z / (kPi * d * d) * s * s;  // Eq. 5 * area
-  Options options;
-  const Receiver receiver{x, n_x, glm::vec3(rho_x)};
-  const double got = many_lights(scene, std::span(&receiver, 1), options)[0].r;
-  std::printf("tiny patch, many lights: relative error %.3e\n", relative_error(got, expected));
-  EXPECT_LT(relative_error(got, expected), 1e-3) << got << " vs " << expected;
-  options.min_points_per_triangle = 400;  // jittered points average the patch's first-order terms out
-  const double got_continuous = continuous(scene, std::span(&receiver, 1), options)[0].r;
-  std::printf("tiny patch, continuous: relative error %.3e\n", relative_error(got_continuous, expected));
-  EXPECT_LT(relative_error(got_continuous, expected), 1e-3) << got_continuous << " vs " << expected;
+  for (const bool lobe : {false, true}) {
+    const float s = 0.01f, sun = 2.0f, rho_e = 0.5f, rho_x = 0.9f;
+    std::vector<Triangle> triangles;
+    add_quad(triangles, glm::vec3(0.0f), glm::vec3(s / 2, 0, 0), glm::vec3(0, s / 2, 0), glm::vec3(rho_e));
+    const Scene scene(triangles, {make_light(BOUNCE_LIGHT_SUN, glm::vec3(0.0f), glm::vec3(sun))});
+    const glm::vec3 x(0.3f, 0.2f, 1.0f), n_x = glm::normalize(glm::vec3(-0.2f, 0.1f, -1.0f));
+    const glm::vec3 w = glm::normalize(x);  // y -> x, with y the patch centre
+    const double d = glm::length(x);
+    const double radiance = lobe ? rho_e * sun * 3.0 / (2.0 * kPi) * w.z : rho_e * sun / kPi;    // Eq. 6
+    const double expected = radiance * rho_x * glm::dot(n_x, -w) * w.z / (kPi * d * d) * s * s;  // Eq. 5 * area
+    Options options;
+    options.cosine_lobe = lobe;
+    const Receiver receiver{x, n_x, glm::vec3(rho_x)};
+    const double got = many_lights(scene, std::span(&receiver, 1), options)[0].r;
+    std::printf("tiny patch (lobe %d), many lights: relative error %.3e\n", int(lobe), relative_error(got, expected));
+    EXPECT_LT(relative_error(got, expected), 1e-3) << got << " vs " << expected;
+    options.min_points_per_triangle = 400;  // jittered points average the patch's first-order terms out
+    const double got_continuous = continuous(scene, std::span(&receiver, 1), options)[0].r;
+    std::printf("tiny patch (lobe %d), continuous: relative error %.3e\n", int(lobe),
+                relative_error(got_continuous, expected));
+    EXPECT_LT(relative_error(got_continuous, expected), 1e-3) << got_continuous << " vs " << expected;
+  }
 }
 
 // A receiver on a light: d is clamped to epsilon (Eq. 5), so the value is finite and known; exactly on the
@@ -448,13 +454,14 @@ TEST(FlcReferenceTransfer, EpsilonClampsReceiverOnVpl) {
   const glm::vec3 y = vpls[0].position;
   // Just above the first light, facing it: cos_x = cos_y = 1, d = epsilon. The second light lies in the plane.
   const Receiver above{y + glm::vec3(0, 0, 1e-5f), {0, 0, -1}, glm::vec3(rho)};
-  const double expected = rho * sun * 3.0 / (2.0 * kPi) * rho / (kPi * 0.05 * 0.05) * vpls[0].area;
-  const glm::vec3 got = gather(vpls, above, options.epsilon);
+  // Straight along the light's normal the lobe of Eq. 6 is 3 / 2 of a diffuse surface's radiance.
+  const double expected = rho * sun / kPi * rho / (kPi * 0.05 * 0.05) * vpls[0].area;
+  const glm::vec3 got = gather(vpls, above, options);
   std::printf("receiver on a light: %.6f, clamped closed form %.6f\n", got.r, expected);
   EXPECT_TRUE(std::isfinite(got.r));
   EXPECT_LT(relative_error(got.r, expected), 1e-3) << got.r << " vs " << expected;
   const Receiver on{y, {0, 0, -1}, glm::vec3(rho)};
-  const glm::vec3 on_value = gather(vpls, on, options.epsilon);
+  const glm::vec3 on_value = gather(vpls, on, options);
   EXPECT_TRUE(std::isfinite(on_value.r));
   EXPECT_GE(on_value.r, 0.0f);
   // Continuous points land anywhere, some within epsilon of the receiver: still finite.

@@ -52,6 +52,7 @@ FlcParams make_flc_params(const BounceSettings& settings, float scene_radius, ui
   p.u_rand = hash_combine(seed, 0x464c4300u + sample);  // Alg. 2: new every progressive sample
   p.scene_radius = scene_radius;
   p.d0 = near;
+  p.cosine_lobe = settings.flc_cosine_lobe;
   return p;
 }
 

@@ -33,7 +33,8 @@ struct FlcParams {
   int32_t image_width, image_height, tile_width, tile_height;
   float scene_radius;
   float d0;
-  int32_t visibility;  // 1: the topology's clusters and gates shadow the VPLs (TopologyVisibilityPass bound)
+  int32_t visibility;   // 1: the topology's clusters and gates shadow the VPLs (TopologyVisibilityPass bound)
+  int32_t cosine_lobe;  // 1: Eq. 6's radiance, in proportion to the cosine at the light; 0: Lambertian
 };
 
 // The pass's parameters for one sample: Eq. 1 (S_0 from N_avg and D_near), Eq. 17-18, the interleaving level.

@@ -135,8 +135,7 @@ glm::vec3 vpl_radiance(const Vpl& vpl, glm::vec3 x, bool cosine_lobe) {
   if (!(distance > 0.0f)) return glm::vec3(0.0f);
   const float cos_side = glm::dot(vpl.normal, to_x) / distance;
   const glm::vec3 e = cos_side >= 0.0f ? vpl.irradiance_front : vpl.irradiance_back;
-  // On the side facing x.
-  return cosine_lobe ? vpl.albedo * e * (3.0f / (2.0f * kPi)) * std::abs(cos_side) : vpl.albedo * e / kPi;
+  return vpl.albedo * e / kPi * (cosine_lobe ? 1.5f * std::abs(cos_side) : 1.0f);  // on the side facing x
 }
 
 glm::vec3 transfer(const Vpl& vpl, const Receiver& receiver, const Options& options) {

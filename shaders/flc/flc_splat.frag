@@ -49,11 +49,11 @@ void main() {
                           : 1.0;
   if (visibility == 0.0) discard;
   float clamped = max(flc.epsilon, distance);
-  // L(t_i, y_i x) = rho_i E / pi, a diffuse surface's (Eq. 6's lobe, rho_i E 3/(2 pi) <n_i, y_i x>+, with Cosine-Lobe
-  // Lights: it sends a wall seen at grazing angles from the light a fraction of its light, and the partition of
-  // Eq. 16 over d = |x - y| / <n_i, y_i x> stays a partition of unity either way, so Eq. 9 holds for both);
+  // L(t_i, y_i x) = rho_i E / pi, a diffuse surface's; with Cosine-Lobe Lights Eq. 6's rho_i E 3/(2 pi)
+  // <n_i, y_i x>+, which leaves light at grazing angles too dark. Eq. 9 holds for either: the partition of Eq. 16
+  // over d = |x - y| / <n_i, y_i x> is one of unity whatever the radiance.
   // H = L rho_x <n_x, x y_i>+ <n_i, y_i x>+ / (pi d^2) (Eq. 5).
-  float lobe = flc.cosine_lobe != 0 ? cos_emitter : 1.0;
+  float lobe = flc.cosine_lobe != 0 ? 1.5 * cos_emitter : 1.0;
   vec3 h = s_radiance_factor * lobe * albedo.rgb * cos_receiver * cos_emitter / (FLC_PI * clamped * clamped);
   out_indirect = vec4(h * (f * visibility), 0.0);
 }

@@ -12,7 +12,7 @@ flat in uint v_vpl[];
 
 flat out vec3 s_vpl_position;
 flat out vec3 s_vpl_normal;
-flat out vec3 s_radiance_factor;  // rho_i E / pi (Eq. 6: 3 / (2 pi)), times S_k and the interleaving weight
+flat out vec3 s_radiance_factor;  // rho_i E / pi, times S_k and the interleaving weight
 flat out vec4 s_partition;  // D_{k-1}, D_k, D_{k+1}, and (k == 0) + 2 (k == N)
 flat out ivec2 s_tile;
 flat out uint s_cluster;  // Indirect Shadows: the visibility cluster on the lit side
@@ -60,8 +60,7 @@ void emit_side(Vpl vpl, vec3 n, vec3 irradiance, ivec2 tile, float tile_weight) 
   vec2 origin = vec2(tile) * tile_size;
   s_vpl_position = vpl.position_scale.xyz;
   s_vpl_normal = n;
-  s_radiance_factor = vpl.albedo_random.rgb * irradiance * (flc.cosine_lobe != 0 ? 3.0 / (2.0 * FLC_PI) : 1.0 / FLC_PI) *
-                      vpl.position_scale.w * tile_weight;
+  s_radiance_factor = vpl.albedo_random.rgb * irradiance / FLC_PI * vpl.position_scale.w * tile_weight;
   s_partition = vec4(level > 0 ? flc_level_distance(flc.d0, flc.mu, level - 1) : 0.0,
                      flc_level_distance(flc.d0, flc.mu, level),
                      level < flc.levels ? flc_level_distance(flc.d0, flc.mu, level + 1) : 0.0,

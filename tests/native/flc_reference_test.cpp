@@ -416,19 +416,19 @@ TEST(FlcReferenceTransfer, ParallelSquaresMatchIntegral) {
 // A tiny patch: many_lights is Eq. 5 and the light's radiance (Lambertian, or Eq. 6's lobe) evaluated once at the
 // patch centre, times its area, to O((s/d)^2).
 TEST(FlcReferenceTransfer, TinyPatchIsOneVpl) {
+  const float s = 0.01f, sun = 2.0f, rho_e = 0.5f, rho_x = 0.9f;
+  std::vector<Triangle> triangles;
+  add_quad(triangles, glm::vec3(0.0f), glm::vec3(s / 2, 0, 0), glm::vec3(0, s / 2, 0), glm::vec3(rho_e));
+  const Scene scene(triangles, {make_light(BOUNCE_LIGHT_SUN, glm::vec3(0.0f), glm::vec3(sun))});
+  const glm::vec3 x(0.3f, 0.2f, 1.0f), n_x = glm::normalize(glm::vec3(-0.2f, 0.1f, -1.0f));
+  const glm::vec3 w = glm::normalize(x);  // y -> x, with y the patch centre
+  const double d = glm::length(x);
+  const Receiver receiver{x, n_x, glm::vec3(rho_x)};
   for (const bool lobe : {false, true}) {
-    const float s = 0.01f, sun = 2.0f, rho_e = 0.5f, rho_x = 0.9f;
-    std::vector<Triangle> triangles;
-    add_quad(triangles, glm::vec3(0.0f), glm::vec3(s / 2, 0, 0), glm::vec3(0, s / 2, 0), glm::vec3(rho_e));
-    const Scene scene(triangles, {make_light(BOUNCE_LIGHT_SUN, glm::vec3(0.0f), glm::vec3(sun))});
-    const glm::vec3 x(0.3f, 0.2f, 1.0f), n_x = glm::normalize(glm::vec3(-0.2f, 0.1f, -1.0f));
-    const glm::vec3 w = glm::normalize(x);  // y -> x, with y the patch centre
-    const double d = glm::length(x);
     const double radiance = lobe ? rho_e * sun * 3.0 / (2.0 * kPi) * w.z : rho_e * sun / kPi;    // Eq. 6
     const double expected = radiance * rho_x * glm::dot(n_x, -w) * w.z / (kPi * d * d) * s * s;  // Eq. 5 * area
     Options options;
     options.cosine_lobe = lobe;
-    const Receiver receiver{x, n_x, glm::vec3(rho_x)};
     const double got = many_lights(scene, std::span(&receiver, 1), options)[0].r;
     std::printf("tiny patch (lobe %d), many lights: relative error %.3e\n", int(lobe), relative_error(got, expected));
     EXPECT_LT(relative_error(got, expected), 1e-3) << got << " vs " << expected;

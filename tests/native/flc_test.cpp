@@ -229,6 +229,10 @@ TEST_F(FlcHard, AMillionIdenticalTinyTriangles) {
 // (Eq. 6), which sent the wall 0.73 and 0.51 of that light; Lambertian lights match it.
 TEST_F(Flc, LightLeavingAtGrazingAnglesReachesAFarWall) {
   const double closed_form[] = {0.0183722, 0.0016052};  // mean Indirect of the view, wall at 2 m and 6 m
+  settings_.method = BOUNCE_METHOD_FLC;
+  settings_.flc_visibility = 0;
+  settings_.flc_vpls_per_pixel = 4096;  // few lights of the far levels land on a small plate: less noise
+  settings_.samples = 64;
   for (int i = 0; i < 2; ++i) {
     const float wall = i == 0 ? 2.0f : 6.0f;
     Soup soup;
@@ -240,10 +244,6 @@ TEST_F(Flc, LightLeavingAtGrazingAnglesReachesAFarWall) {
     set_sun(glm::vec3(0.0f, -0.3f, 1.0f));
     set_camera(glm::lookAt(glm::vec3(0.0f, -1.5f, 2.5f), glm::vec3(0.0f, wall, 2.0f), glm::vec3(0, 0, 1)),
                glm::perspective(glm::radians(40.0f), 1.5f, 0.05f, 100.0f), 48, 32);
-    settings_.method = BOUNCE_METHOD_FLC;
-    settings_.flc_visibility = 0;
-    settings_.flc_vpls_per_pixel = 4096;  // few lights of the far levels land on a small plate: less noise
-    settings_.samples = 64;
     const double lambertian = mean_red(render(BOUNCE_AOV_INDIRECT));
     settings_.flc_cosine_lobe = 1;
     const double lobe = mean_red(render(BOUNCE_AOV_INDIRECT));

@@ -26,7 +26,8 @@ BUDGETS_S = (1.0, 2.0)
 # Indirect Shadows (flc_visibility, on by default); the Topology method also with exact shadow rays for its VPLs
 # (a quarter of them, as each costs one ray per pixel), which splits its error between the VPLs and its
 # visibility rule. A configuration whose setting the build lacks is skipped and said so.
-PAPER_FLC = {"method": "FLC", "flc_visibility": False, "flc_cosine_lobe": True}  # as printed: Eq. 6, no visibility
+PAPER_FLC = {"method": "FLC", "flc_visibility": False, "flc_cosine_lobe": True,  # as printed: Eq. 6, no visibility,
+             "flc_vpl_candidates": 1}  # VPLs by area alone
 CONFIGS = [{"method": "AUTO"}, {"method": "DIRECT"}, PAPER_FLC, {"method": "FLC", "flc_visibility": True},
            {"method": "SSVP", "bounces": 2}, {"method": "TOPOLOGY", "bounces": 2}, {"method": "TOPOLOGY", "bounces": 1},
            {"method": "TOPOLOGY", "bounces": 1, "topology_visibility": "SHADOW_RAYS", "topology_vpls": 256}]

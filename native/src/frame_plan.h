@@ -13,6 +13,7 @@ struct FramePlan {
   Direct direct = Direct::RayTraced;
   Indirect indirect = Indirect::None;
   bool indirect_shadows = false;  // the topology's clusters and gates shadow Forward Light Cuts' VPLs
+  int vpl_candidates = 1;         // Forward Light Cuts' VPLs drawn per VPL kept by its light, once rays have lit them
   bool vpl_importance = false;    // SSVP draws its VPLs where shadow rays say their light reaches the view
   // The GL VPL methods' distance clamp takes the first bounce's light next to lit surfaces; the near field gives it
   // back: by Embree rays with the ray-traced direct light, else marched through the G-buffer (which misses
@@ -33,6 +34,7 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
     case BOUNCE_METHOD_FLC:
       plan.indirect = FramePlan::Indirect::ForwardLightCuts;
       plan.indirect_shadows = settings.flc_visibility != 0;
+      plan.vpl_candidates = plan.direct == FramePlan::Direct::RayTraced ? settings.flc_vpl_candidates : 1;
       plan.near_field_clamp = settings.flc_epsilon;
       plan.near_field_blur = settings.flc_blur_radius;
       break;

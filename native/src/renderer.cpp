@@ -249,8 +249,11 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
         context_of({x0, y0, x1 - x0, y1 - y0}, static_cast<uint32_t>(s), jitter, lights);
     if (flc) {
       if (callbacks.cancelled()) return false;
-      flc_.generate(frame_context);
-      direct_.for_each_shadowed_light(frame_context, shadows_, [&] { flc_.add_light(frame_context); });
+      flc_.generate(frame_context, plan.vpl_candidates);
+      if (traced_direct)
+        flc_.add_traced_light(frame_context, cpu_scene_, scene_lights_);
+      else
+        direct_.for_each_shadowed_light(frame_context, shadows_, [&] { flc_.add_light(frame_context); });
       vpl_count = flc_.vpl_count();
       divergent_count = flc_.divergent_count();
     }

@@ -1,11 +1,16 @@
 #include "passes/flc/flc_pass.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "common/parallel.h"
+#include "cpu/direct_light.h"
+#include "cpu/random.h"
 #include "error.h"
 #include "gl/shader.h"
 #include "passes/flc/flc_math.h"
@@ -25,10 +30,21 @@ constexpr GLintptr kVplDrawOffset = 0;
 constexpr GLintptr kDivergentDrawOffset = 4 * sizeof(uint32_t);
 constexpr int kNoiseSize = 256;
 constexpr std::size_t kVplBytes = 5 * 4 * sizeof(float);
+static_assert(sizeof(FlcPass::HostVpl) == kVplBytes);
 constexpr std::size_t kDivergentBytes = 4 * 4 * sizeof(float);
 constexpr uint32_t kInitialVplCapacity = 1u << 16;
 constexpr uint32_t kInitialDivergentCapacity = 1u << 12;
 constexpr int kMaxRegrowths = 8;
+constexpr uint64_t kTracedVplLight = 33;  // random streams: the VPLs' shadow rays (TracedDirectPass: 31, 32)
+constexpr uint64_t kVplRoulette = 34;     // and which candidates are kept
+
+// A VPL's random stream: its triangle's random number (Alg. 1's) and its level. The order in which the GPU
+// appends VPLs varies between runs and positions change with the scene's scale; these do not.
+uint64_t vpl_key(const FlcPass::HostVpl& vpl) {
+  uint32_t random = 0;
+  std::memcpy(&random, &vpl.albedo_random.w, sizeof random);
+  return uint64_t(random) << 8 | uint64_t(std::clamp(int(vpl.normal_level.w), 0, 255));
+}
 
 uint32_t grown(uint32_t capacity, uint64_t needed) {
   uint64_t next = std::max<uint64_t>(2ull * capacity, needed + needed / 4);
@@ -100,16 +116,21 @@ FlcPass::FlcPass()
   gl::check("creating the Forward Light Cuts pass");
 }
 
-void FlcPass::generate(const RenderContext& context) {
+void FlcPass::generate(const RenderContext& context, int candidates) {
   vpl_count_ = divergent_count_ = 0;
   const float scene_radius = context.scene.radius();
   if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
   params_ = make_flc_params(context.settings, scene_radius, context.seed, context.sample);
+  // Alg. 1 with S_0 / M: M times the lights, each standing for 1 / M of the area; add_traced_light keeps about one
+  // in M, by their light.
+  candidates_ = std::max(candidates, 1);
+  params_.s0 /= float(candidates_);
+  params_.inverse_cumulative_n = flc::flc_inverse_cumulative_area(params_.s0, params_.mu, params_.levels);
   params_.max_tess_level = max_tess_level_;
   if (!vpls_) {
     vpl_capacity_ = kInitialVplCapacity;
     divergent_capacity_ = kInitialDivergentCapacity;
-    vpls_ = gl::make_buffer(vpl_capacity_ * kVplBytes, nullptr, 0);
+    vpls_ = gl::make_buffer(vpl_capacity_ * kVplBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
     divergents_ = gl::make_buffer(divergent_capacity_ * kDivergentBytes, nullptr, 0);
   }
   // The counts are read back once per sample: they size the lighting dispatch and tell when a buffer was too
@@ -130,7 +151,7 @@ void FlcPass::generate(const RenderContext& context) {
     }
     if (counters.vpl_overflow) {
       vpl_capacity_ = grown(vpl_capacity_, vpl_capacity_ + uint64_t(counters.vpl_overflow));
-      vpls_ = gl::make_buffer(std::size_t(vpl_capacity_) * kVplBytes, nullptr, 0);
+      vpls_ = gl::make_buffer(std::size_t(vpl_capacity_) * kVplBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
     }
     gl::check("growing the Forward Light Cuts buffers");
   }
@@ -180,6 +201,55 @@ void FlcPass::add_light(const RenderContext& context) {
   gl::dispatch_linear(vpl_count_, 64);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   gl::check("lighting the Forward Light Cuts VPLs");
+}
+
+void FlcPass::add_traced_light(const RenderContext& context, const cpu::CpuScene& scene,
+                               const SceneLights& scene_lights) {
+  if (vpl_count_ == 0 || context.lights.empty() || scene.triangle_count() == 0) return;
+  StageScope scope(context.timer, Stage::FlcLighting);
+  traced_vpls_.resize(std::size_t(vpl_count_));
+  vpls_readback_.read(vpls_.id(), traced_vpls_.size() * sizeof(HostVpl), traced_vpls_.data());
+  const cpu::ShadowRays rays{scene.bvh(), scene.ray_offset(), 1, scene.opaque(), context.settings.shadow_softness};
+  const cpu::WorldStrategies world{scene_lights, context.settings.world_lights};
+  const uint64_t sample = uint64_t(context.sample) << 8;
+  parallel_for(traced_vpls_.size(), 0, 256, [&](std::size_t i) {
+    HostVpl& vpl = traced_vpls_[i];
+    const glm::vec3 y(vpl.position_scale), n(vpl.normal_level);
+    cpu::Rng rng(context.seed, kTracedVplLight ^ sample, vpl_key(vpl));
+    vpl.front = glm::vec4(cpu::direct_irradiance(context.lights, y, n, rays, rng, &world), 0.0f);
+    vpl.back = glm::vec4(cpu::direct_irradiance(context.lights, y, -n, rays, rng, &world), 0.0f);
+  });
+  if (candidates_ > 1) {
+    // Per level k, each candidate is kept with probability p = min(1, P / (M mean_k P)) of its reflected power P
+    // (rho E, both sides, times its weight S_k) and its weight divided by p: unbiased, about one in M kept, and the
+    // lights go where the light is (light through blinds lands on a few stripes of a floor).
+    std::array<double, 17> level_power{};
+    std::array<uint32_t, 17> level_count{};
+    const auto power = [](const HostVpl& vpl) {
+      const glm::vec3 reflected = glm::vec3(vpl.albedo_random) * (glm::vec3(vpl.front) + glm::vec3(vpl.back));
+      return double(reflected.r + reflected.g + reflected.b) * double(vpl.position_scale.w);
+    };
+    const auto level = [](const HostVpl& vpl) { return std::clamp(int(vpl.normal_level.w), 0, 16); };
+    for (const HostVpl& vpl : traced_vpls_) {
+      level_power[level(vpl)] += power(vpl);
+      ++level_count[level(vpl)];
+    }
+    std::size_t kept = 0;
+    for (const HostVpl& vpl : traced_vpls_) {
+      const double budget = double(candidates_) * level_power[level(vpl)] / double(level_count[level(vpl)]);
+      const double p = budget > 0.0 ? std::min(1.0, power(vpl) / budget) : 0.0;
+      if (!(p > 0.0) || !(double(cpu::Rng(context.seed, kVplRoulette ^ sample, vpl_key(vpl)).next()) < p)) continue;
+      traced_vpls_[kept] = vpl;
+      traced_vpls_[kept++].position_scale.w = float(double(vpl.position_scale.w) / p);
+    }
+    traced_vpls_.resize(kept);
+    vpl_count_ = uint32_t(kept);
+    glNamedBufferSubData(counters_.id(), 0, sizeof vpl_count_, &vpl_count_);  // the splat's draw count
+    if (kept == 0) return;
+  }
+  glNamedBufferSubData(vpls_.id(), 0, GLsizeiptr(traced_vpls_.size() * sizeof(HostVpl)), traced_vpls_.data());
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  gl::check("lighting the Forward Light Cuts VPLs with rays");
 }
 
 void FlcPass::resize(int width, int height, const FlcParams& params) {

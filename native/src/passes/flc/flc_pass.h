@@ -3,7 +3,8 @@
 //   generate   - regular pipeline: one geometry-shader pass over every triangle (Sec. 4, Alg. 1); divergent
 //                triangles are stored on the GPU and drawn again through the tessellator with
 //                glDrawArraysIndirect (Sec. 6, Alg. 2). VPLs go to a buffer.
-//   add_light  - per light, with its shadow map bound: the direct irradiance E(t_i) at every VPL (Eq. 6).
+//   add_light  - per light, with its shadow map bound: the direct irradiance E(t_i) at every VPL (Eq. 6);
+//   or add_traced_light - every light at once on the CPU, with Embree shadow rays (Shadows > Ray Traced).
 // and per tile of the sample:
 //   shade      - splatting of every VPL's support (Eq. 5, 10, 14, 16) into 4^L interleaved sub-images, then
 //                untiling and a depth- and normal-aware blur; plus the VPL-levels debug view (Fig. 3). With
@@ -16,11 +17,17 @@
 
 #include <cstdint>
 
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "cpu/cpu_scene.h"
 #include "gl/objects.h"
 #include "passes/blur/geometry_blur.h"
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/render_context.h"
 #include "passes/topology_visibility/topology_visibility_pass.h"
+#include "scene_lights.h"
 
 namespace bounce {
 
@@ -45,12 +52,20 @@ void set_flc_image(FlcParams& params, int width, int height);
 class FlcPass {
  public:
   FlcPass();
-  void generate(const RenderContext& context);
+  // candidates: Alg. 1 draws this many times the VPLs; add_traced_light keeps about one in `candidates`, in
+  // proportion to the light each reflects (1: the paper's VPLs, by area alone; needs add_traced_light).
+  void generate(const RenderContext& context, int candidates);
   void add_light(const RenderContext& context);
+  // E(t_i) from every light of the sample with the visible fraction of each from a shadow ray, as the ray-traced
+  // direct light has it (cpu/direct_light.h; `lights` made the sample's list), then the candidates kept.
+  void add_traced_light(const RenderContext& context, const cpu::CpuScene& scene, const SceneLights& lights);
   // With `visibility` (Indirect Shadows), each VPL lights only what the topology's clusters and gates let it.
   void shade(const RenderContext& context, const GBuffer& gbuffer, const TopologyVisibilityPass* visibility);
 
   bool active() const { return vpl_count_ > 0; }
+  struct HostVpl {  // std430 mirror of shaders/flc/flc_common.glsl `Vpl`
+    glm::vec4 position_scale, normal_level, albedo_random, front, back;
+  };
   GLuint indirect() const { return resolved_; }  // RGBA32F, the tile's size
   GLuint levels() const { return levels_.id(); }
   uint32_t vpl_count() const { return vpl_count_; }
@@ -69,12 +84,14 @@ class FlcPass {
   gl::Program regular_, divergent_, lighting_, splat_, untile_, levels_program_;
   GeometryBlur blur_;
   gl::Buffer params_buffer_, counters_, vpls_, divergents_;
-  gl::Readback counters_readback_;
+  gl::Readback counters_readback_, vpls_readback_;
+  std::vector<HostVpl> traced_vpls_;  // add_traced_light's copy of the VPLs
   gl::Texture noise_;
   FlcParams params_{};
   float max_tess_level_ = 64.0f;  // GL_MAX_TESS_GEN_LEVEL, queried once
   uint32_t vpl_capacity_ = 0, divergent_capacity_ = 0;
   uint32_t vpl_count_ = 0, divergent_count_ = 0;
+  int candidates_ = 1;  // generate()'s
 
   gl::Framebuffer generation_target_;  // no attachments: the generating draws rasterize nothing
   gl::Texture tiled_, untiled_, levels_;

@@ -29,10 +29,11 @@ inline constexpr int kPassageBins = kPassageBinsPerSide * kPassageBinsPerSide;
 
 // Light between two clusters no chain of gates joins: it crosses `gate`, the rectangle around where the clear
 // segments between them cross (clusters: the two, the lower first; normal: their mean direction), and passes with
-// the share for its direction's bin (topology_passage_bin of the direction from the lower cluster to the higher).
+// the share for its direction's bin (topology_passage_bin of the direction from the lower cluster to the higher)
+// in the table of its ends' distances from the rectangle's plane (topology_passage_table): share[table * bins + bin].
 struct Passage {
   Gate gate;
-  std::array<float, kPassageBins> share{};
+  std::array<float, 2 * kPassageBins> share{};
 };
 
 struct Passages {

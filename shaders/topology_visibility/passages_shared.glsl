@@ -49,6 +49,16 @@ PASSAGES_INLINE vec3 topology_passage_bin_direction(int bin, float s, float t) {
                                         (float(bin / n) + t) / float(n) * 2.0f - 1.0f));
 }
 
+// A passage keeps two tables of shares: light whose source or receiver lies within this many voxels of its plane
+// (on the slats of blinds or the sill inside the opening, which see through it more freely than what lies beyond)
+// takes the near table, other light the far one.
+#define TOPOLOGY_PASSAGE_NEAR_VOXELS 2.0f
+
+// The table (0 far, 1 near) of light between points at signed distances side_p and side_x from a passage's plane.
+PASSAGES_INLINE int topology_passage_table(float side_p, float side_x, float voxel) {
+  return min(abs(side_p), abs(side_x)) < TOPOLOGY_PASSAGE_NEAR_VOXELS * voxel ? 1 : 0;
+}
+
 // behind_occluder's reach for a light inside the receiver's cluster: no gate, the whole segment.
 #define TOPOLOGY_WITHIN_CLUSTER 3.0e38f
 

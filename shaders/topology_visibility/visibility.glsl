@@ -29,8 +29,8 @@ layout(std430, binding = 11) readonly buffer TopologyClusterGates { uint topolog
 // The passages between clusters no chain of gates joins (topology::Passages; native/topology/passages.h): first,
 // per pair of clusters [a * cluster count + b], 0 or 1 + the index of its passage; then per passage, as float
 // bits, its rectangle (centre and half extent along u, normal and half extent along cross(normal, u), u) and the
-// share of the light that passes by the bin of the direction from the pair's lower cluster to its higher. A single
-// 0 when there are none.
+// share of the light that passes by the bin of the direction from the pair's lower cluster to its higher, the far
+// table then the near one (topology_passage_table). A single 0 when there are none.
 layout(std430, binding = 13) readonly buffer TopologyPassages { uint topology_passages[]; };
 
 float topology_passage(uint from, vec3 p, uint to, vec3 x) {
@@ -39,7 +39,7 @@ float topology_passage(uint from, vec3 p, uint to, vec3 x) {
   uint index = topology_passages[from * count + to];
   if (index == 0u) return 0.0;
   uint bins = uint(TOPOLOGY_PASSAGE_BINS_PER_SIDE * TOPOLOGY_PASSAGE_BINS_PER_SIDE);
-  uint base = count * count + (index - 1u) * (12u + bins);
+  uint base = count * count + (index - 1u) * (12u + 2u * bins);
   vec4 rectangle[3];
   for (uint i = 0u; i < 3u; ++i)
     rectangle[i] = uintBitsToFloat(uvec4(topology_passages[base + 4u * i], topology_passages[base + 4u * i + 1u],
@@ -47,7 +47,9 @@ float topology_passage(uint from, vec3 p, uint to, vec3 x) {
   if (!in_gate_cone(p, rectangle[0].xyz, rectangle[1].xyz, rectangle[2].xyz, rectangle[0].w, rectangle[1].w, x))
     return 0.0;
   int bin = topology_passage_bin(normalize(from < to ? x - p : p - x));
-  return uintBitsToFloat(topology_passages[base + 12u + uint(bin)]);
+  int table = topology_passage_table(dot(p - rectangle[0].xyz, rectangle[1].xyz),
+                                     dot(x - rectangle[0].xyz, rectangle[1].xyz), topology_grid.origin_voxel.w);
+  return uintBitsToFloat(topology_passages[base + 12u + uint(table) * bins + uint(bin)]);
 }
 
 // The occluders inside clusters (topology::Occluders; native/topology/occluders.h): per padded grid cell 0 or 1 +

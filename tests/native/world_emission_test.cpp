@@ -193,8 +193,8 @@ TEST_F(WorldAndEmission, SquareEmitterLightsThePlaneBelowByItsViewFactor) {
 
 // The furnace: inside a closed diffuse sphere (albedo 0.8) whose inner surface emits 1, the radiance is
 // 1 + 0.8 with direct light only, + 0.64 with one bounce, + 0.512 with two (the limit: 5). Measured: 1.7984, FLC
-// 2.4462, SSVP 2.4257 and 2.9285 (it bounces one of the sample's lights, drawn by its flux), Topology 2.4433 and
-// 2.9422.
+// 2.4098 (32 samples; 2.4462 before its light candidates), SSVP 2.4257 and 2.9285 (it bounces one of the sample's
+// lights, drawn by its flux), Topology 2.4433 and 2.9422.
 TEST_F(WorldAndEmission, EmissiveFurnaceAddsAlbedoPowersPerBounce) {
   std::vector<float> positions;
   std::vector<uint32_t> triangles;
@@ -209,15 +209,18 @@ TEST_F(WorldAndEmission, EmissiveFurnaceAddsAlbedoPowersPerBounce) {
   set_instances_with({{1, 0}});
   const glm::mat4 view = glm::lookAt(glm::vec3(0.0f), glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
   set_camera(view, glm::perspective(glm::radians(60.0f), 1.0f, 0.05f, 10.0f), 24, 24);
-  settings_.samples = 8;
+  // FLC draws four candidates per light and keeps one by its light (Light Candidates): where every light is as
+  // bright, a random one in four, whose mean over 8 samples varies by 2.5 % between seeds (32: 1 %).
   const struct {
-    int method, bounces;
+    int method, bounces, samples;
     double expected;
-  } cases[] = {{BOUNCE_METHOD_DIRECT, 1, 1.8}, {BOUNCE_METHOD_FLC, 1, 2.44},      {BOUNCE_METHOD_SSVP, 1, 2.44},
-               {BOUNCE_METHOD_SSVP, 2, 2.952}, {BOUNCE_METHOD_TOPOLOGY, 1, 2.44}, {BOUNCE_METHOD_TOPOLOGY, 2, 2.952}};
+  } cases[] = {{BOUNCE_METHOD_DIRECT, 1, 8, 1.8},    {BOUNCE_METHOD_FLC, 1, 32, 2.44},
+               {BOUNCE_METHOD_SSVP, 1, 8, 2.44},     {BOUNCE_METHOD_SSVP, 2, 8, 2.952},
+               {BOUNCE_METHOD_TOPOLOGY, 1, 8, 2.44}, {BOUNCE_METHOD_TOPOLOGY, 2, 8, 2.952}};
   for (const auto& c : cases) {
     settings_.method = c.method;
     settings_.bounces = c.bounces;
+    settings_.samples = c.samples;
     const Image image = render(BOUNCE_AOV_COMBINED);
     ASSERT_TRUE(all_finite(image));
     EXPECT_NEAR(mean_red(image) / c.expected, 1.0, 0.02) << "method " << c.method << ", " << c.bounces << " bounces";

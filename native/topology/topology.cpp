@@ -185,4 +185,52 @@ Topology with_ray_estimates(Topology base, std::span<const glm::vec3> soup, cons
   return base;
 }
 
+std::vector<uint32_t> voxel_clusters_split_at_gates(const Topology& t) {
+  const GridShape& shape = t.grid.shape;
+  std::vector<uint32_t> clusters(shape.padded_count(), kNoNode);
+  for (std::size_t i = 0; i < clusters.size() && i < t.skeleton.voxel_node.size(); ++i)
+    clusters[i] = t.cluster_of_node(t.skeleton.voxel_node[i]);
+  static constexpr std::array<glm::ivec3, 6> kFaces{
+      {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}};
+  const double h = shape.voxel_size;
+  for (const Gate& gate : t.gates) {
+    if (gate.kind != Gate::Kind::kSkeleton || gate.clusters[0] >= t.cluster_count ||
+        gate.clusters[1] >= t.cluster_count)
+      continue;
+    const glm::dvec3 centre(gate.centre), n(gate.normal), u(gate.axis_u), w = glm::cross(n, u);
+    const double reach = std::hypot(double(gate.half_u), double(gate.half_v)) + 2.0 * h;
+    const glm::ivec3 lo = glm::max(shape.voxel_at(centre - reach), glm::ivec3(0)),
+                     hi = glm::min(shape.voxel_at(centre + reach), shape.dims - 1);
+    for (int side = 0; side < 2; ++side) {
+      const uint32_t from = gate.clusters[side], to = gate.clusters[1 - side];
+      const double sign = side == 0 ? 1.0 : -1.0;  // the normal points from clusters[0] to clusters[1]
+      const auto past = [&](glm::ivec3 v) {
+        const glm::dvec3 d = shape.centre(v) - centre;
+        return shape.inside(v) && clusters[shape.index(v)] == from && sign * glm::dot(d, n) > 0.0 &&
+               glm::length(d) <= reach;
+      };
+      // Seeds: `from`'s voxels just past the plane, in the opening.
+      std::vector<glm::ivec3> queue;
+      for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x) {
+            const glm::ivec3 v(x, y, z);
+            const glm::dvec3 d = shape.centre(v) - centre;
+            if (past(v) && sign * glm::dot(d, n) <= 1.5 * h && std::abs(glm::dot(d, u)) <= double(gate.half_u) + h &&
+                std::abs(glm::dot(d, w)) <= double(gate.half_v) + h) {
+              clusters[shape.index(v)] = to;
+              queue.push_back(v);
+            }
+          }
+      for (std::size_t head = 0; head < queue.size(); ++head)
+        for (const glm::ivec3& o : kFaces)
+          if (const glm::ivec3 v = queue[head] + o; past(v)) {
+            clusters[shape.index(v)] = to;
+            queue.push_back(v);
+          }
+    }
+  }
+  return clusters;
+}
+
 }  // namespace bounce::topology

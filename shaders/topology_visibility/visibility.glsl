@@ -8,8 +8,8 @@
 
 const uint TOPOLOGY_NO_CLUSTER = 0xFFFFFFFFu;
 
-// Per padded grid cell: the visibility cluster of its nearest skeleton node, TOPOLOGY_NO_CLUSTER on solid cells
-// and the padding.
+// Per padded grid cell: its visibility cluster (topology::voxel_clusters_split_at_gates), TOPOLOGY_NO_CLUSTER on
+// solid cells and the padding.
 layout(binding = 20) uniform usampler3D topology_clusters;
 
 layout(std140, binding = 6) uniform TopologyGrid {

@@ -386,6 +386,33 @@ TEST_F(FlcIndirectShadows, BlocksInsideAClusterCastIndirectShadows) {
   }
 }
 
+// A floor just past a doorway lights the room it lies in: room A's cluster claims a dome of room B's voxels around
+// the doorway, and light from there into room B crosses no gate the GPU has (the dome's boundary is a second
+// opening, which needs a ray: Gate::needs_ray); topology::voxel_clusters_split_at_gates gives the dome to room B.
+// A spot light in room B lights a disc of floor just past the doorway, and the camera in room B looks away from it:
+// every VPL sees every receiver, so Indirect Shadows should keep all of the paper's FLC's light.
+TEST_F(FlcIndirectShadows, FloorPastADoorwayLightsItsRoom) {
+  const auto room_b = [&](int visibility) {
+    add_soup(1, two_rooms().vertices);
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(0.8f);
+    BounceLight spot = make_light(BOUNCE_LIGHT_SPOT, {10.25f, 5.0f, 3.9f}, glm::vec3(2000.0f));
+    spot.spot_half_angle = 0.05f;  // straight down (-axis_z): a disc of radius 0.2 m around x = 10.25
+    set_lights({spot});
+    set_camera(glm::lookAt(glm::vec3(12.0f, 5.0f, 2.0f), glm::vec3(20.0f, 5.0f, 1.5f), glm::vec3(0, 0, 1)),
+               glm::perspective(glm::radians(70.0f), 2.0f, 0.05f, 100.0f), 64, 32);
+    settings_.method = BOUNCE_METHOD_FLC;
+    settings_.flc_visibility = visibility;
+    settings_.samples = 8;
+    return mean_red(render(BOUNCE_AOV_INDIRECT));
+  };
+  const double unshadowed = room_b(0), shadowed = room_b(1);
+  std::printf("room B lit by the floor past the doorway: %.5f with Indirect Shadows, %.5f without\n", shadowed,
+              unshadowed);
+  ASSERT_GT(unshadowed, 0.0);
+  EXPECT_NEAR(shadowed / unshadowed, 1.0, 0.05);
+}
+
 TEST_F(FlcIndirectShadows, DoorwayLetsLightThrough) {
   const double lit = mean_indirect(two_rooms(), kInA, kWall, 1);
   const double through_door = mean_indirect(two_rooms(), kInB, kWall, 1);

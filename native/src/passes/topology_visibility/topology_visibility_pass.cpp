@@ -49,10 +49,7 @@ void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topol
   const topology::GridShape& shape = topology->grid.shape;
   const glm::ivec3 padded = shape.padded();
   // Padded cells, x fastest: the layout of the topology's arrays and of a 3-D texture alike.
-  std::vector<uint32_t> clusters(shape.padded_count(), topology::kNoNode);
-  for (std::size_t i = 0; i < clusters.size(); ++i)
-    if (i < topology->skeleton.voxel_node.size())
-      clusters[i] = topology->cluster_of_node(topology->skeleton.voxel_node[i]);
+  const std::vector<uint32_t> clusters = topology::voxel_clusters_split_at_gates(*topology);
   GLuint texture = 0;
   glCreateTextures(GL_TEXTURE_3D, 1, &texture);
   clusters_ = gl::Texture(texture);

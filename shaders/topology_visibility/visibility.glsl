@@ -96,6 +96,22 @@ uint topology_cluster_at(vec3 p, vec3 n) {
   return nearest;
 }
 
+// The cluster of a pixel's surface point p, seen along the unit `to_eye` (toward the camera) with the G-buffer's
+// normal n: the first empty voxel back along the camera's ray within four voxels, which the ray came through, else
+// topology_cluster_at's. Where a floor meets a wall, the voxels along the floor's normal lie in the wall's solid
+// voxels and the nearest empty neighbour may be beyond the wall or outside the room: those pixels lost the room's
+// light, and the blur spread the loss over a band. The lit one of two rooms split by a wall, 64 samples, against
+// the paper's FLC (no visibility, no leak there): 0.962 along the normal, 0.970 within two voxels back along the
+// ray, 0.978 within four or eight.
+uint topology_cluster_seen(vec3 p, vec3 n, vec3 to_eye) {
+  float voxel = topology_grid.origin_voxel.w;
+  for (float step = 0.5; step <= 4.0; step += 0.5) {
+    uint cluster = topology_cluster_in(topology_cell(p + step * voxel * to_eye));
+    if (cluster != TOPOLOGY_NO_CLUSTER) return cluster;
+  }
+  return topology_cluster_at(p, n);
+}
+
 // How much of a light at p a surface inside x's cluster leaves to the receiver x: where the surface that rays from
 // x's cell along the bin of p - x meet (topology::Occluders) has p, and the point `reach` from x toward p where the
 // light enters the cluster, behind its plane (behind_occluder), the share of the bin's rays that miss it.

@@ -145,6 +145,9 @@ void TopologyVisibilityPass::execute(const RenderContext& context, const GBuffer
   gbuffer.bind_for_reading();
   bind();
   glUseProgram(program_.id());
+  const glm::vec4 eye =
+      context.orthographic ? glm::vec4(context.camera_forward, 1.0f) : glm::vec4(context.camera_position, 0.0f);
+  glUniform4fv(0, 1, &eye[0]);
   draw_fullscreen_triangle();
   gl::check("finding the pixels' visibility clusters");
 }

@@ -69,15 +69,24 @@ ivec3 topology_cell(vec3 p) {
   return ivec3(floor((p - topology_grid.origin_voxel.xyz) / topology_grid.origin_voxel.w));
 }
 
+// The cluster of the first empty voxel from p along the unit d, in steps of half a voxel up to `voxels` voxels;
+// TOPOLOGY_NO_CLUSTER when there is none.
+uint topology_cluster_along(vec3 p, vec3 d, float voxels) {
+  float voxel = topology_grid.origin_voxel.w;
+  for (float step = 0.5; step <= voxels; step += 0.5) {
+    uint cluster = topology_cluster_in(topology_cell(p + step * voxel * d));
+    if (cluster != TOPOLOGY_NO_CLUSTER) return cluster;
+  }
+  return TOPOLOGY_NO_CLUSTER;
+}
+
 // The cluster of a surface point p on the side of its unit normal n (Topology::cluster_at, Side::Front): the
 // first empty voxel from p along n within two voxels, else p's own voxel, else its nearest empty neighbour on
 // n's side. TOPOLOGY_NO_CLUSTER outside the grid or walled in.
 uint topology_cluster_at(vec3 p, vec3 n) {
   float voxel = topology_grid.origin_voxel.w;
-  for (float step = 0.5; step <= 2.0; step += 0.5) {
-    uint cluster = topology_cluster_in(topology_cell(p + step * voxel * n));
-    if (cluster != TOPOLOGY_NO_CLUSTER) return cluster;
-  }
+  uint along = topology_cluster_along(p, n, 2.0);
+  if (along != TOPOLOGY_NO_CLUSTER) return along;
   ivec3 cell = topology_cell(p);
   uint nearest = topology_cluster_in(cell);
   if (nearest != TOPOLOGY_NO_CLUSTER) return nearest;
@@ -104,12 +113,8 @@ uint topology_cluster_at(vec3 p, vec3 n) {
 // the paper's FLC (no visibility, no leak there): 0.962 along the normal, 0.970 within two voxels back along the
 // ray, 0.978 within four or eight.
 uint topology_cluster_seen(vec3 p, vec3 n, vec3 to_eye) {
-  float voxel = topology_grid.origin_voxel.w;
-  for (float step = 0.5; step <= 4.0; step += 0.5) {
-    uint cluster = topology_cluster_in(topology_cell(p + step * voxel * to_eye));
-    if (cluster != TOPOLOGY_NO_CLUSTER) return cluster;
-  }
-  return topology_cluster_at(p, n);
+  uint seen = topology_cluster_along(p, to_eye, 4.0);
+  return seen != TOPOLOGY_NO_CLUSTER ? seen : topology_cluster_at(p, n);
 }
 
 // How much of a light at p a surface inside x's cluster leaves to the receiver x: where the surface that rays from

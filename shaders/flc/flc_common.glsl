@@ -23,12 +23,13 @@ layout(std140, binding = 5) uniform FlcParams {
   float d0;                    // D_0 = D_near (Eq. 1, 18)
   int visibility;              // 1: Indirect Shadows (shaders/topology_visibility/visibility.glsl)
   int cosine_lobe;             // 1: Eq. 6's radiance, in proportion to the cosine at the light; 0: Lambertian
+  float draw_mu;               // the level ratio Alg. 1 draws with (mu, or sqrt(mu) for candidates)
 } flc;
 
 // One virtual point light: a triangle that survived Alg. 1, its point y_i and level k, and the direct
 // irradiance E(t_i) on each side, summed over the lights by flc_light.comp.
 struct Vpl {
-  vec4 position_scale;  // y_i, and the splat weight F^k / f^k = S_k (times the oversize weight)
+  vec4 position_scale;  // y_i, and the splat weight F^k / f^k = S_k (times the oversize weight; a candidate's own)
   vec4 normal_level;    // geometric normal n_i, level k
   vec4 albedo_random;   // rho_i, the triangle's random number (bits)
   vec4 front;           // E on the side n_i faces
@@ -77,7 +78,7 @@ void flc_store_vpl(vec3 y, vec3 n, int level, float scale, vec3 albedo, uint ran
 // and writes the barycentric weights of its VPL's point: the centroid, or a uniform point when jittering
 // (progressive rendering, Sec. 6).
 int flc_choose(float area, float weight, uint random, out vec3 barycentric) {
-  int level = flc_level(flc_unit(random), area / weight, flc.s0, flc.mu, flc.levels);
+  int level = flc_level(flc_unit(random), area / weight, flc.s0, flc.draw_mu, flc.levels);
   barycentric = flc.jitter != 0 ? flc_triangle_point(flc_unit(pcg_hash(random ^ 0x68bc21ebu)),
                                                      flc_unit(pcg_hash(random ^ 0x02e5be93u)))
                                 : vec3(1.0 / 3.0);

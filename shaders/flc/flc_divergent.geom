@@ -25,6 +25,6 @@ void main() {
   int level = flc_choose(area, weight, random, barycentric);
   if (level < 0) return;
   vec3 y = barycentric.x * p0 + barycentric.y * p1 + barycentric.z * p2;
-  flc_store_vpl(y, c / twice_area, level, weight * flc_level_area(flc.s0, flc.mu, level), t.albedo_instance.rgb,
+  flc_store_vpl(y, c / twice_area, level, weight * flc_level_area(flc.s0, flc.draw_mu, level), t.albedo_instance.rgb,
                 random);
 }

@@ -67,5 +67,5 @@ void main() {
     if (flc.jitter == 0) base.rgb *= base.a;
   }
   vec3 y = barycentric.x * p0 + barycentric.y * p1 + barycentric.z * p2;
-  flc_store_vpl(y, c / twice_area, level, flc_level_area(flc.s0, flc.mu, level), base.rgb, random);
+  flc_store_vpl(y, c / twice_area, level, flc_level_area(flc.s0, flc.draw_mu, level), base.rgb, random);
 }

@@ -69,6 +69,7 @@ FlcParams make_flc_params(const BounceSettings& settings, float scene_radius, ui
   p.scene_radius = scene_radius;
   p.d0 = near;
   p.cosine_lobe = settings.flc_cosine_lobe;
+  p.draw_mu = p.mu;
   return p;
 }
 
@@ -121,11 +122,20 @@ void FlcPass::generate(const RenderContext& context, int candidates) {
   const float scene_radius = context.scene.radius();
   if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
   params_ = make_flc_params(context.settings, scene_radius, context.seed, context.sample);
-  // Alg. 1 with S_0 / M: M times the lights, each standing for 1 / M of the area; add_traced_light keeps about one
-  // in M, by their light.
+  // Candidates: Alg. 1 with S_0 / M and the level ratio sqrt(mu), so that a level-k candidate stands for
+  // S_0 mu^(k/2) / M, in proportion to D_k^2 (Eq. 18 as flc_level_distance has it): every level offers a receiver
+  // M N_avg candidates within its reach, where the paper's lights thin out by mu per level. Eq. 14 puts light that
+  // leaves a surface at grazing angles on the coarsest levels (d = |x - y| / cos); with Lambertian lights that light
+  // counts, and a level-6 light stood for 186 m^2 where a spot lit a 7 m^2 disc of floor, so that 16 samples saw
+  // one such light or none (the two rooms' walls beside the doorway: relative deviation 0.65 between seeds).
+  // add_traced_light keeps about the paper's number of each level, by their light. Eq. 16's partition depends on
+  // D_k alone, so the levels' reach is unchanged.
   candidates_ = std::max(candidates, 1);
-  params_.s0 /= float(candidates_);
-  params_.inverse_cumulative_n = flc::flc_inverse_cumulative_area(params_.s0, params_.mu, params_.levels);
+  if (candidates_ > 1) {
+    params_.s0 /= float(candidates_);
+    params_.draw_mu = std::sqrt(params_.mu);
+  }
+  params_.inverse_cumulative_n = flc::flc_inverse_cumulative_area(params_.s0, params_.draw_mu, params_.levels);
   params_.max_tess_level = max_tess_level_;
   if (!vpls_) {
     vpl_capacity_ = kInitialVplCapacity;
@@ -220,9 +230,10 @@ void FlcPass::add_traced_light(const RenderContext& context, const cpu::CpuScene
     vpl.back = glm::vec4(cpu::direct_irradiance(context.lights, y, -n, rays, rng, &world), 0.0f);
   });
   if (candidates_ > 1) {
-    // Per level k, each candidate is kept with probability p = min(1, P / (M mean_k P)) of its reflected power P
-    // (rho E, both sides, times its weight S_k) and its weight divided by p: unbiased, about one in M kept, and the
-    // lights go where the light is (light through blinds lands on a few stripes of a floor).
+    // Per level k, each candidate is kept with probability p = min(1, P / (M_k mean_k P)) of its reflected power P
+    // (rho E, both sides, times its weight) and its weight divided by p: unbiased, about one in M_k kept, where M_k
+    // = M (mu / draw_mu)^k is the number of candidates a paper's light of level k stands for, and the lights go
+    // where the light is (light through blinds lands on a few stripes of a floor).
     std::array<double, 17> level_power{};
     std::array<uint32_t, 17> level_count{};
     const auto power = [](const HostVpl& vpl) {
@@ -234,9 +245,12 @@ void FlcPass::add_traced_light(const RenderContext& context, const cpu::CpuScene
       level_power[level(vpl)] += power(vpl);
       ++level_count[level(vpl)];
     }
+    std::array<double, 17> level_candidates{};
+    for (std::size_t k = 0; k < level_candidates.size(); ++k)
+      level_candidates[k] = double(candidates_) * std::pow(double(params_.mu) / double(params_.draw_mu), double(k));
     std::size_t kept = 0;
     for (const HostVpl& vpl : traced_vpls_) {
-      const double budget = double(candidates_) * level_power[level(vpl)] / double(level_count[level(vpl)]);
+      const double budget = level_candidates[level(vpl)] * level_power[level(vpl)] / double(level_count[level(vpl)]);
       const double p = budget > 0.0 ? std::min(1.0, power(vpl) / budget) : 0.0;
       if (!(p > 0.0) || !(double(cpu::Rng(context.seed, kVplRoulette ^ sample, vpl_key(vpl)).next()) < p)) continue;
       traced_vpls_[kept] = vpl;

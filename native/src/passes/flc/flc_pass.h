@@ -42,6 +42,7 @@ struct FlcParams {
   float d0;
   int32_t visibility;   // 1: the topology's clusters and gates shadow the VPLs (TopologyVisibilityPass bound)
   int32_t cosine_lobe;  // 1: Eq. 6's radiance, in proportion to the cosine at the light; 0: Lambertian
+  float draw_mu;        // the level ratio Alg. 1 draws with: mu, or sqrt(mu) for candidates (FlcPass::generate)
 };
 
 // The pass's parameters for one sample: Eq. 1 (S_0 from N_avg and D_near), Eq. 17-18, the interleaving level.
@@ -52,8 +53,9 @@ void set_flc_image(FlcParams& params, int width, int height);
 class FlcPass {
  public:
   FlcPass();
-  // candidates: Alg. 1 draws this many times the VPLs; add_traced_light keeps about one in `candidates`, in
-  // proportion to the light each reflects (1: the paper's VPLs, by area alone; needs add_traced_light).
+  // candidates: Alg. 1 draws `candidates` times the VPLs of level 0 and more of the coarser levels, as many within
+  // each level's reach D_k; add_traced_light keeps about the paper's number of each level, in proportion to the
+  // light each reflects (1: the paper's VPLs, by area alone; needs add_traced_light).
   void generate(const RenderContext& context, int candidates);
   void add_light(const RenderContext& context);
   // E(t_i) from every light of the sample with the visible fraction of each from a shadow ray, as the ray-traced

@@ -320,6 +320,24 @@ class FlcIndirectShadows : public Flc {
     settings_.samples = 4;
     return mean_red(render(BOUNCE_AOV_INDIRECT));
   }
+  // Room A lit by a spot straight down: a disc of its floor of radius 1.5 m, and no direct light past the middle wall.
+  void light_room_a_floor(const Soup& rooms) {
+    add_soup(1, rooms.vertices);
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(0.8f);
+    BounceLight spot = make_light(BOUNCE_LIGHT_SPOT, {4.0f, 5.0f, 3.5f}, glm::vec3(2000.0f));
+    spot.spot_half_angle = 0.4f;
+    set_lights({spot});
+  }
+  // The first bounce by `method`: FLC with Indirect Shadows, or the Topology method with a shadow ray per VPL.
+  void first_bounce_by(int method, int samples) {
+    settings_.method = method;
+    settings_.flc_visibility = 1;
+    settings_.topology_visibility = 1;  // shadow rays
+    settings_.topology_vpls = 1024;
+    settings_.bounces = 1;
+    settings_.samples = samples;
+  }
   static constexpr glm::vec3 kInA{1.0f, 5.0f, 2.0f}, kInB{19.0f, 5.0f, 2.0f}, kWall{10.0f, 5.0f, 1.0f};
 };
 
@@ -354,21 +372,11 @@ TEST_F(FlcIndirectShadows, EdgesOfALitRoomKeepItsLight) {
 // By the gates alone the share was 0.
 TEST_F(FlcIndirectShadows, GrillePassesTheShareOfLightItsGapsLetThrough) {
   const auto room_b = [&](bool fins, int method) {
-    add_soup(1, two_rooms_with_grille(fins).vertices);
-    set_instances({1}, {glm::mat4(1.0f)});
-    set_albedo(0.8f);
-    BounceLight spot = make_light(BOUNCE_LIGHT_SPOT, {4.0f, 5.0f, 3.5f}, glm::vec3(2000.0f));
-    spot.spot_half_angle = 0.4f;
-    set_lights({spot});
+    light_room_a_floor(two_rooms_with_grille(fins));
     // From the grille toward room B's far wall: the camera sees nothing of room A.
     set_camera(glm::lookAt(glm::vec3(10.5f, 5.0f, 2.0f), glm::vec3(20.0f, 5.0f, 1.0f), glm::vec3(0, 0, 1)),
                glm::perspective(glm::radians(70.0f), 2.0f, 0.05f, 100.0f), 64, 32);
-    settings_.method = method;
-    settings_.flc_visibility = 1;
-    settings_.topology_visibility = 1;  // shadow rays
-    settings_.topology_vpls = 1024;
-    settings_.bounces = 1;
-    settings_.samples = 8;
+    first_bounce_by(method, 8);
     return mean_red(render(BOUNCE_AOV_INDIRECT));
   };
   const double traced = room_b(true, BOUNCE_METHOD_TOPOLOGY) / room_b(false, BOUNCE_METHOD_TOPOLOGY);
@@ -448,20 +456,10 @@ TEST_F(FlcIndirectShadows, FloorPastADoorwayLightsItsRoom) {
 // from 0.62 of its mean to 0.13 and keep its mean at the shadow rays' (the Topology method's, 1,024 VPLs).
 TEST_F(FlcIndirectShadows, LightThroughADoorwayConvergesOverSeeds) {
   const auto beside_doorway = [&](int method, int seed) {
-    add_soup(1, two_rooms().vertices);
-    set_instances({1}, {glm::mat4(1.0f)});
-    set_albedo(0.8f);
-    BounceLight spot = make_light(BOUNCE_LIGHT_SPOT, {4.0f, 5.0f, 3.5f}, glm::vec3(2000.0f));
-    spot.spot_half_angle = 0.4f;  // straight down: a disc of radius 1.5 m, and no direct light through the doorway
-    set_lights({spot});
+    light_room_a_floor(two_rooms());
     set_camera(glm::lookAt(kInB, kWall, glm::vec3(0, 0, 1)), glm::perspective(glm::radians(70.0f), 2.0f, 0.05f, 100.0f),
                96, 48);
-    settings_.method = method;
-    settings_.flc_visibility = 1;
-    settings_.topology_visibility = 1;  // shadow rays
-    settings_.topology_vpls = 1024;
-    settings_.bounces = 1;
-    settings_.samples = 16;
+    first_bounce_by(method, 16);
     settings_.seed = seed;
     const Image indirect = render(BOUNCE_AOV_INDIRECT);
     double sides = 0.0;  // the left and right thirds: the walls beside the doorway

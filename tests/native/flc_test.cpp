@@ -451,7 +451,7 @@ TEST_F(FlcIndirectShadows, FloorPastADoorwayLightsItsRoom) {
 
 // Light that reaches room B through the doorway from a disc of room A's floor, which a spot lights: room B's walls
 // beside the doorway see the disc at grazing angles, and Eq. 14's d = |x - y| / cos gives that light to the coarsest
-// levels, whose lights stood for up to 27 times the disc's area; 16 samples saw one such light or none. Candidates
+// levels, whose lights stood for up to 27 times the disc's area; 16 samples saw a few such lights or none. Candidates
 // drawn as many within every level's reach (FlcPass::generate) bring the spread between seeds of those walls' light
 // from 0.62 of its mean to 0.13 and keep its mean at the shadow rays' (the Topology method's, 1,024 VPLs).
 TEST_F(FlcIndirectShadows, LightThroughADoorwayConvergesOverSeeds) {

@@ -127,7 +127,7 @@ void FlcPass::generate(const RenderContext& context, int candidates) {
   // M N_avg candidates within its reach, where the paper's lights thin out by mu per level. Eq. 14 puts light that
   // leaves a surface at grazing angles on the coarsest levels (d = |x - y| / cos); with Lambertian lights that light
   // counts, and a level-6 light stood for 186 m^2 where a spot lit a 7 m^2 disc of floor, so that 16 samples saw
-  // one such light or none (the two rooms' walls beside the doorway: relative deviation 0.65 between seeds).
+  // a few such lights or none (the two rooms' walls beside the doorway: relative deviation 0.65 between seeds).
   // add_traced_light keeps about the paper's number of each level, by their light. Eq. 16's partition depends on
   // D_k alone, so the levels' reach is unchanged.
   candidates_ = std::max(candidates, 1);

@@ -90,6 +90,19 @@ TEST(FlcMath, OversizeTrianglesKeepTheirExpectedArea) {
   }
 }
 
+// The mean of renders of several seeds and their sample standard deviation.
+struct SeedSpread {
+  double mean = 0.0, deviation = 0.0;
+};
+SeedSpread spread_of(const std::vector<double>& values) {
+  SeedSpread spread;
+  for (double v : values) spread.mean += v / double(values.size());
+  double variance = 0.0;
+  for (double v : values) variance += (v - spread.mean) * (v - spread.mean) / double(values.size() - 1);
+  spread.deviation = std::sqrt(variance);
+  return spread;
+}
+
 // On a sphere |x - y| / cos = 2R for every pair, so that levels 4 and 5 alone, about 100 VPLs a sample, light
 // the view: one 64-sample render's mean varies by 1-2 % between seeds, as much as the tolerance. Four seeds of 32
 // samples each make the mean's standard error (printed) about half of it.
@@ -106,12 +119,10 @@ TEST_F(Flc, FurnaceConvergesToTheFirstBounce) {
     ASSERT_TRUE(all_finite(indirect));
     means.push_back(mean_red(indirect) / expected);
   }
-  double mean = 0.0, variance = 0.0;
-  for (double m : means) mean += m / double(means.size());
-  for (double m : means) variance += (m - mean) * (m - mean) / double(means.size() - 1);
-  std::printf("furnace, 4 seeds of 32 samples: %.4f of the first bounce, standard error %.4f\n", mean,
-              std::sqrt(variance / double(means.size())));
-  EXPECT_NEAR(mean, 1.0, 0.02);
+  const SeedSpread spread = spread_of(means);
+  std::printf("furnace, 4 seeds of 32 samples: %.4f of the first bounce, standard error %.4f\n", spread.mean,
+              spread.deviation / std::sqrt(double(means.size())));
+  EXPECT_NEAR(spread.mean, 1.0, 0.02);
 }
 
 }  // namespace
@@ -470,14 +481,12 @@ TEST_F(FlcIndirectShadows, LightThroughADoorwayConvergesOverSeeds) {
   };
   std::vector<double> flc;
   for (int seed = 1; seed <= 6; ++seed) flc.push_back(beside_doorway(BOUNCE_METHOD_FLC, seed));
-  double mean = 0.0, variance = 0.0;
-  for (double v : flc) mean += v / double(flc.size());
-  for (double v : flc) variance += (v - mean) * (v - mean) / double(flc.size() - 1);
+  const SeedSpread spread = spread_of(flc);
   const double traced = beside_doorway(BOUNCE_METHOD_TOPOLOGY, 1);
   std::printf("walls beside the doorway over 6 seeds: mean %.3f of the shadow rays', relative deviation %.3f\n",
-              mean / traced, std::sqrt(variance) / mean);
-  EXPECT_LT(std::sqrt(variance) / mean, 0.3);
-  EXPECT_NEAR(mean / traced, 1.0, 0.15);
+              spread.mean / traced, spread.deviation / spread.mean);
+  EXPECT_LT(spread.deviation / spread.mean, 0.3);
+  EXPECT_NEAR(spread.mean / traced, 1.0, 0.15);
 }
 
 TEST_F(FlcIndirectShadows, DoorwayLetsLightThrough) {

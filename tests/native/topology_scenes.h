@@ -107,27 +107,29 @@ inline Soup room_with_window(bool blinds = false) {
 }
 
 // The budget's sunlit interior in small (benchmarks/sunlit_interior_scene.py, furniture left out): a 6 x 5 x 2.8 room
-// of closed boxes 0.2 thick, a window x 1.5..3.5, z 0.9..2.2 in its wall y = 0 closed by eleven horizontal slats
-// 3 cm thick and 8 cm deep in the middle of the wall's depth, on a 14 x 14 ground: at the default grid (11 cm voxels)
-// the slats' 8.8 cm gaps are closed.
+// of closed boxes 0.2 thick, a window kDeepWindowLo..kDeepWindowHi in its wall y = 0 closed by eleven horizontal
+// slats 3 cm thick and 8 cm deep in the middle of the wall's depth, on a 14 x 14 ground: at the default grid (11 cm
+// voxels) the slats' 8.8 cm gaps are closed.
+inline constexpr glm::vec3 kDeepWindowLo{1.5f, 0.0f, 0.9f}, kDeepWindowHi{3.5f, 0.0f, 2.2f};
 inline Soup room_with_deep_blinds() {
-  constexpr float kWall = 0.2f, kThick = 0.03f, kDeep = 0.08f;
+  constexpr float kWall = 0.2f, kHeight = 2.8f, kThick = 0.03f, kDeep = 0.08f;
   constexpr int kSlats = 11;
+  const glm::vec3 lo = kDeepWindowLo, hi = kDeepWindowHi;
   Soup s;
   s.quad({-4.0f, -4.5f, -0.05f}, {10.0f, 9.5f, -0.05f}, 2);    // the ground, under the floor's box too
   s.box({-kWall, -kWall, -kWall}, {6 + kWall, 5 + kWall, 0});  // floor
-  s.box({-kWall, -kWall, 2.8f}, {6 + kWall, 5 + kWall, 2.8f + kWall});
-  s.box({-kWall, 0, 0}, {0, 5, 2.8f});
-  s.box({6, 0, 0}, {6 + kWall, 5, 2.8f});
-  s.box({-kWall, 5, 0}, {6 + kWall, 5 + kWall, 2.8f});
-  s.box({-kWall, -kWall, 0}, {1.5f, 0, 2.8f});  // the window's wall, around the opening
-  s.box({3.5f, -kWall, 0}, {6 + kWall, 0, 2.8f});
-  s.box({1.5f, -kWall, 0}, {3.5f, 0, 0.9f});
-  s.box({1.5f, -kWall, 2.2f}, {3.5f, 0, 2.8f});
-  const float pitch = (2.2f - 0.9f) / float(kSlats);
+  s.box({-kWall, -kWall, kHeight}, {6 + kWall, 5 + kWall, kHeight + kWall});
+  s.box({-kWall, 0, 0}, {0, 5, kHeight});
+  s.box({6, 0, 0}, {6 + kWall, 5, kHeight});
+  s.box({-kWall, 5, 0}, {6 + kWall, 5 + kWall, kHeight});
+  s.box({-kWall, -kWall, 0}, {lo.x, 0, kHeight});  // the window's wall, around the opening
+  s.box({hi.x, -kWall, 0}, {6 + kWall, 0, kHeight});
+  s.box({lo.x, -kWall, 0}, {hi.x, 0, lo.z});
+  s.box({lo.x, -kWall, hi.z}, {hi.x, 0, kHeight});
+  const float pitch = (hi.z - lo.z) / float(kSlats);
   for (int i = 0; i < kSlats; ++i) {
-    const float z = 0.9f + (float(i) + 0.5f) * pitch;
-    s.box({1.5f, -kWall / 2 - kDeep / 2, z - kThick / 2}, {3.5f, -kWall / 2 + kDeep / 2, z + kThick / 2});
+    const float z = lo.z + (float(i) + 0.5f) * pitch;
+    s.box({lo.x, -kWall / 2 - kDeep / 2, z - kThick / 2}, {hi.x, -kWall / 2 + kDeep / 2, z + kThick / 2});
   }
   return s;
 }

@@ -21,7 +21,7 @@ struct TopologyGate {
   vec4 centre_half_u;  // centre, half extent along u
   vec4 normal_half_v;  // normal, half extent along cross(normal, u)
   vec4 axis_u;
-  uvec4 clusters;  // xy: the clusters either side
+  uvec4 clusters;  // xy: the clusters either side; z: 1 for a second opening (topology::Gate::needs_ray)
 };
 layout(std430, binding = 10) readonly buffer TopologyGates { TopologyGate topology_gates[]; };
 // [2 c], [2 c + 1]: the first index and the count of cluster c's gates in the rest of the array.
@@ -140,20 +140,36 @@ float topology_unoccluded(vec3 p, vec3 x, float reach) {
   return 1.0 - float(word >> 28) / 15.0;
 }
 
+// Whether the segment p-x meets no solid voxel past the two voxels at either end (where p's and x's own surfaces
+// lie): the GPU's stand-in for the shadow ray that confirms a walk through a second opening on the CPU, whose
+// rectangle may stand in front of a wall (a dome's, beside a doorway) or span other clusters (Sponza's arcades).
+bool topology_voxels_clear(vec3 p, vec3 x) {
+  float voxel = topology_grid.origin_voxel.w;
+  float length_px = distance(p, x);
+  vec3 d = (x - p) / max(length_px, 1e-20);
+  for (float t = 2.0 * voxel; t < length_px - 2.0 * voxel; t += 0.5 * voxel)
+    if (topology_cluster_in(topology_cell(p + t * d)) == TOPOLOGY_NO_CLUSTER) return false;
+  return true;
+}
+
 // How much of a light at p in cluster `from` reaches x in cluster `to`, as on the CPU (cpu::reaches): a light
 // without a cluster lights nothing (the CPU casts it a shadow ray; there are no rays here); a receiver without
 // one has no visibility information and takes every light but those a surface inside the cluster hides (as does
 // the light's own cluster); clusters no chain of gates joins pass their passage's share in the direction p-x where
 // the segment crosses its rectangle; otherwise, when the segment p-x crosses a chain of gates from `from` to `to`, each
 // inside its rectangle, found by a breadth-first walk through at most TOPOLOGY_WALK_CLUSTERS clusters, what the
-// surfaces between x and the last gate leave (topology_unoccluded), and none when it does not.
+// surfaces between x and the last gate leave (topology_unoccluded), and none when it does not. A chain through a
+// second opening holds only where the voxels between p and x are clear, and then passes all of the light, as a
+// shadow ray's word does on the CPU.
 float topology_visibility(uint from, vec3 p, uint to, vec3 x) {
   if (from == TOPOLOGY_NO_CLUSTER) return 0.0;
   if (to == TOPOLOGY_NO_CLUSTER || from == to) return topology_unoccluded(p, x, TOPOLOGY_WITHIN_CLUSTER);
   float passage = topology_passage(from, p, to, x);
   if (passage > 0.0) return passage;
   uint walk[TOPOLOGY_WALK_CLUSTERS];
+  bool via_second[TOPOLOGY_WALK_CLUSTERS];
   walk[0] = from;
+  via_second[0] = false;
   uint walked = 1u;
   for (uint head = 0u; head < walked; ++head) {
     uint cluster = walk[head];
@@ -166,9 +182,18 @@ float topology_visibility(uint from, vec3 p, uint to, vec3 x) {
       if (visited || !in_gate_cone(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, gate.axis_u.xyz,
                                    gate.centre_half_u.w, gate.normal_half_v.w, x))
         continue;
-      if (beyond == to)
+      bool second = via_second[head] || gate.clusters.z != 0u;
+      if (beyond == to) {
+        if (second) {
+          if (topology_voxels_clear(p, x)) return 1.0;
+          continue;
+        }
         return topology_unoccluded(p, x, gate_entry_distance(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, x));
-      if (walked < uint(TOPOLOGY_WALK_CLUSTERS)) walk[walked++] = beyond;
+      }
+      if (walked < uint(TOPOLOGY_WALK_CLUSTERS)) {
+        via_second[walked] = second;
+        walk[walked++] = beyond;
+      }
     }
   }
   return 0.0;

@@ -68,11 +68,11 @@ void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topol
   std::vector<GpuGate> gates;
   std::vector<std::vector<uint32_t>> of_cluster(topology->cluster_count);
   for (const topology::Gate& gate : topology->gates) {
-    if (gate.needs_ray()) continue;
     for (uint32_t c : gate.clusters)
       if (c < topology->cluster_count) of_cluster[c].push_back(uint32_t(gates.size()));
     gates.push_back({glm::vec4(gate.centre, gate.half_u), glm::vec4(gate.normal, gate.half_v),
-                     glm::vec4(gate.axis_u, 0.0f), glm::uvec4(gate.clusters[0], gate.clusters[1], 0u, 0u)});
+                     glm::vec4(gate.axis_u, 0.0f),
+                     glm::uvec4(gate.clusters[0], gate.clusters[1], gate.needs_ray() ? 1u : 0u, 0u)});
   }
   // Two words per cluster (first index, count), then the gate indices of each cluster in turn.
   std::vector<uint32_t> table(2 * of_cluster.size());

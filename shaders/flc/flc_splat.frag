@@ -41,11 +41,13 @@ void main() {
   if (f == 0.0) discard;
   vec4 albedo = texelFetch(g_albedo, pixel, 0);
   if (albedo.a == 0.0) discard;
-  float cos_receiver = -dot(texelFetch(g_normal, pixel, 0).xyz, direction);
+  vec3 normal = texelFetch(g_normal, pixel, 0).xyz;
+  float cos_receiver = -dot(normal, direction);
   if (cos_receiver <= 0.0) discard;
   if (emitter_between(s_vpl_position, x, 1e-4 * flc.scene_radius)) discard;
   float visibility =
-      flc.visibility != 0 ? topology_visibility(s_cluster, s_vpl_position, texelFetch(pixel_clusters, pixel, 0).r, x)
+      flc.visibility != 0 ? topology_visibility(s_cluster, s_vpl_position, s_vpl_normal, texelFetch(pixel_clusters, pixel, 0).r,
+                                                x, normal)
                           : 1.0;
   if (visibility == 0.0) discard;
   float clamped = max(flc.epsilon, distance);

@@ -7,6 +7,10 @@
 #include "topology_visibility/passages_shared.glsl"
 
 const uint TOPOLOGY_NO_CLUSTER = 0xFFFFFFFFu;
+// topology_voxels_clear: how far off its surface each end starts, and how much of either end the march skips, in
+// voxels.
+#define TOPOLOGY_MARCH_LIFT 1.5
+#define TOPOLOGY_MARCH_SKIP 0.5
 
 // Per padded grid cell: its visibility cluster (topology::voxel_clusters_split_at_gates), TOPOLOGY_NO_CLUSTER on
 // solid cells and the padding.
@@ -140,15 +144,16 @@ float topology_unoccluded(vec3 p, vec3 x, float reach) {
   return 1.0 - float(word >> 28) / 15.0;
 }
 
-// Whether the segment p-x meets no solid voxel past the two voxels at either end (where p's and x's own surfaces
-// lie): the GPU's stand-in for the shadow ray that confirms a walk through a second opening on the CPU, whose
-// rectangle may stand in front of a wall (a dome's, beside a doorway) or span other clusters (Sponza's arcades).
-bool topology_voxels_clear(vec3 p, vec3 x) {
+// Whether the segment between p and x, each lifted off its surface along its unit normal, meets no solid voxel:
+// the GPU's stand-in for the shadow ray that confirms a walk through a second opening on the CPU, whose rectangle
+// may stand in front of a wall (a dome's, beside a doorway) or span other clusters (Sponza's arcades).
+bool topology_voxels_clear(vec3 p, vec3 n_p, vec3 x, vec3 n_x) {
   float voxel = topology_grid.origin_voxel.w;
-  float length_px = distance(p, x);
-  vec3 d = (x - p) / max(length_px, 1e-20);
-  for (float t = 2.0 * voxel; t < length_px - 2.0 * voxel; t += 0.5 * voxel)
-    if (topology_cluster_in(topology_cell(p + t * d)) == TOPOLOGY_NO_CLUSTER) return false;
+  vec3 from = p + TOPOLOGY_MARCH_LIFT * voxel * n_p, to = x + TOPOLOGY_MARCH_LIFT * voxel * n_x;
+  float length_px = distance(from, to);
+  vec3 d = (to - from) / max(length_px, 1e-20);
+  for (float t = TOPOLOGY_MARCH_SKIP * voxel; t < length_px - TOPOLOGY_MARCH_SKIP * voxel; t += 0.5 * voxel)
+    if (topology_cluster_in(topology_cell(from + t * d)) == TOPOLOGY_NO_CLUSTER) return false;
   return true;
 }
 
@@ -161,7 +166,7 @@ bool topology_voxels_clear(vec3 p, vec3 x) {
 // surfaces between x and the last gate leave (topology_unoccluded), and none when it does not. A chain through a
 // second opening holds only where the voxels between p and x are clear, and then passes all of the light, as a
 // shadow ray's word does on the CPU.
-float topology_visibility(uint from, vec3 p, uint to, vec3 x) {
+float topology_visibility(uint from, vec3 p, vec3 n_p, uint to, vec3 x, vec3 n_x) {
   if (from == TOPOLOGY_NO_CLUSTER) return 0.0;
   if (to == TOPOLOGY_NO_CLUSTER || from == to) return topology_unoccluded(p, x, TOPOLOGY_WITHIN_CLUSTER);
   float passage = topology_passage(from, p, to, x);
@@ -185,7 +190,7 @@ float topology_visibility(uint from, vec3 p, uint to, vec3 x) {
       bool second = via_second[head] || gate.clusters.z != 0u;
       if (beyond == to) {
         if (second) {
-          if (topology_voxels_clear(p, x)) return 1.0;
+          if (topology_voxels_clear(p, n_p, x, n_x)) return 1.0;
           continue;
         }
         return topology_unoccluded(p, x, gate_entry_distance(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, x));

@@ -92,7 +92,7 @@ def test_sponza_court_lights_its_far_wall_through_the_arcades(blender, sponza_bl
     others are second openings (topology::Gate::needs_ray). The Topology method confirms a crossing through those
     with a shadow ray; Indirect Shadows, with no ray on the GPU, left them out, and the middle third of the view (the
     court's far wall and its galleries) kept 0.85 of the first bounce that shadow rays give it. A march through the
-    grid's solid voxels confirms them now (visibility.glsl, topology_voxels_clear)."""
+    grid's solid voxels confirms them now (visibility.glsl, topology_voxels_clear): 0.92."""
     def indirect(name, bounce):
         cfg = {"out": str(out_dir / name), "engine": "BOUNCE", "info": str(out_dir / f"{name}.json"),
                "bounce": dict(bounce, samples=8, seed=1, bounces=1)}

@@ -151,6 +151,7 @@ bool topology_voxels_clear(vec3 p, vec3 n_p, vec3 x, vec3 n_x) {
   float voxel = topology_grid.origin_voxel.w;
   vec3 from = p + TOPOLOGY_MARCH_LIFT * voxel * n_p, to = x + TOPOLOGY_MARCH_LIFT * voxel * n_x;
   float length_px = distance(from, to);
+  if (!(length_px < 3.0e38)) return false;  // not finite: no march can say
   vec3 d = (to - from) / max(length_px, 1e-20);
   for (float t = TOPOLOGY_MARCH_SKIP * voxel; t < length_px - TOPOLOGY_MARCH_SKIP * voxel; t += 0.5 * voxel)
     if (topology_cluster_in(topology_cell(from + t * d)) == TOPOLOGY_NO_CLUSTER) return false;

@@ -46,8 +46,8 @@ void main() {
   if (cos_receiver <= 0.0) discard;
   if (emitter_between(s_vpl_position, x, 1e-4 * flc.scene_radius)) discard;
   float visibility =
-      flc.visibility != 0 ? topology_visibility(s_cluster, s_vpl_position, s_vpl_normal, texelFetch(pixel_clusters, pixel, 0).r,
-                                                x, normal)
+      flc.visibility != 0 ? topology_visibility(s_cluster, s_vpl_position, s_vpl_normal,
+                                                texelFetch(pixel_clusters, pixel, 0).r, x, normal)
                           : 1.0;
   if (visibility == 0.0) discard;
   float clamped = max(flc.epsilon, distance);

@@ -92,7 +92,8 @@ def test_sponza_court_lights_its_far_wall_through_the_arcades(blender, sponza_bl
     others are second openings (topology::Gate::needs_ray). The Topology method confirms a crossing through those
     with a shadow ray; Indirect Shadows, with no ray on the GPU, left them out, and the middle third of the view (the
     court's far wall and its galleries) kept 0.85 of the first bounce that shadow rays give it. A march through the
-    grid's solid voxels confirms them now (visibility.glsl, topology_voxels_clear): 0.92."""
+    grid's solid voxels confirms them now (visibility.glsl, topology_voxels_clear): 0.92 on Blender 3.4. Held above
+    0.88, which the old rule fails, with room for the other versions' glTF importers."""
     def indirect(name, bounce):
         cfg = {"out": str(out_dir / name), "engine": "BOUNCE", "info": str(out_dir / f"{name}.json"),
                "bounce": dict(bounce, samples=8, seed=1, bounces=1)}
@@ -108,4 +109,4 @@ def test_sponza_court_lights_its_far_wall_through_the_arcades(blender, sponza_bl
     print("Sponza's first bounce, Indirect Shadows over shadow rays, left / middle / right third: "
           + " / ".join(f"{t:.3f}" for t in thirds))
     record("flc.sponza_indirect_shadows_over_shadow_rays_thirds", [round(t, 4) for t in thirds])
-    assert thirds[1] > 0.9
+    assert thirds[1] > 0.88

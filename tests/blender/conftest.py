@@ -133,6 +133,16 @@ class Blender:
         args += [str(a) for a in script_args]
         return self.run(args, name=name or Path(script).stem, **kw)
 
+    def render(self, config, out_base, blend=None, name=None):
+        """Run scripts/render.py on CONFIG (after opening BLEND, if given), writing its image to OUT_BASE and its
+        info to OUT_BASE.json; return (the info, with the EXR's path as "exr", and the run's BlenderResult)."""
+        out_base = Path(out_base)
+        config_path = out_base.with_name(out_base.name + ".config.json")
+        info_path = out_base.with_name(out_base.name + ".json")
+        config_path.write_text(json.dumps(dict(config, out=str(out_base), info=str(info_path))))
+        result = self.script("render.py", [config_path], blend=blend, name=name or out_base.name)
+        return json.loads(info_path.read_text()), result
+
     def render_cases(self, script, spec, out, record_name, name):
         """Write `spec` to OUT/cases.json, run SCRIPT with (cases.json, OUT), return OUT/RECORD_NAME parsed."""
         out.mkdir(parents=True, exist_ok=True)

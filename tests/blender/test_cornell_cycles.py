@@ -10,7 +10,6 @@ Metric: mean absolute difference over all pixels and channels, as a fraction of 
 reported with a band excluded: pixels within EDGE_BAND px of a strong gradient in the reference (a neighbour
 differs by more than EDGE_STEP x the reference mean: silhouettes and shadow boundaries).
 """
-import json
 
 import numpy as np
 import pytest
@@ -28,21 +27,13 @@ RECIPE = "cycles-oracle-v1"
 TALL_FRONT_NORMAL = np.array([0.18, -0.57, 0.0]) / np.linalg.norm([0.18, -0.57, 0.0])
 
 
-def _render(blender, blend, out_base, config, name):
-    cfg = dict(config, out=str(out_base), info=str(out_base) + ".json")
-    cfg_path = out_base.parent / (out_base.name + ".config.json")
-    cfg_path.write_text(json.dumps(cfg))
-    blender.script("render.py", [cfg_path], blend=blend, name=name)
-    return json.loads((out_base.parent / (out_base.name + ".json")).read_text())
-
-
 @pytest.fixture(scope="module")
 def cycles_reference(blender, cornell_blend, cache_dir):
     key = f"{cornell_blend.stem}-{RECIPE}-s{CYCLES['samples']}-k{CYCLES['bounces']}"
     path = cache_dir / f"cycles-{key}.exr"
     if not path.is_file():
         tmp = cache_dir / f"tmp-cycles-{key}"
-        info = _render(blender, cornell_blend, tmp, {"engine": "CYCLES", "cycles": CYCLES}, "cornell-cycles")
+        info, _ = blender.render({"engine": "CYCLES", "cycles": CYCLES}, tmp, cornell_blend, "cornell-cycles")
         record("cornell.cycles_seconds", round(info["seconds"], 2))
         (cache_dir / f"tmp-cycles-{key}.exr").rename(path)
     ch = read_exr(path)
@@ -53,7 +44,7 @@ def cycles_reference(blender, cornell_blend, cache_dir):
 def bounce_cornell(blender, cornell_blend, out_root):
     out = out_root / "cornell"
     out.mkdir(parents=True, exist_ok=True)
-    info = _render(blender, cornell_blend, out / "bounce", {"engine": "BOUNCE", "bounce": BOUNCE}, "cornell-bounce")
+    info, _ = blender.render({"engine": "BOUNCE", "bounce": BOUNCE}, out / "bounce", cornell_blend, "cornell-bounce")
     record("cornell.bounce_seconds", round(info["seconds"], 2))
     return read_exr(info["exr"])
 

@@ -48,11 +48,10 @@ def cornell_seeds(blender, cornell_blend, out_root):
     out.mkdir(parents=True, exist_ok=True)
     images = {}
     for name, seed in (("a", 3), ("b", 3), ("c", 4)):
-        cfg = {"out": str(out / name), "engine": "BOUNCE", "info": str(out / f"{name}.json"), "resolution": 48,
-               "bounce": {"method": "FLC", "samples": 2, "seed": seed, "shadow_map_size": 256}}
-        (out / f"{name}.cfg.json").write_text(json.dumps(cfg))
-        blender.script("render.py", [out / f"{name}.cfg.json"], blend=cornell_blend, name=f"flc-seed-{name}")
-        images[name] = layer_pass(read_exr(json.loads((out / f"{name}.json").read_text())["exr"]), "Indirect")
+        config = {"engine": "BOUNCE", "resolution": 48,
+                  "bounce": {"method": "FLC", "samples": 2, "seed": seed, "shadow_map_size": 256}}
+        info, _ = blender.render(config, out / name, cornell_blend, f"flc-seed-{name}")
+        images[name] = layer_pass(read_exr(info["exr"]), "Indirect")
     return images
 
 
@@ -95,11 +94,9 @@ def test_sponza_court_lights_its_far_wall_through_the_arcades(blender, sponza_bl
     grid's solid voxels confirms them now (visibility.glsl, topology_voxels_clear): 0.92 on Blender 3.4. Held above
     0.88, which the old rule fails, with room for the other versions' glTF importers."""
     def indirect(name, bounce):
-        cfg = {"out": str(out_dir / name), "engine": "BOUNCE", "info": str(out_dir / f"{name}.json"),
-               "bounce": dict(bounce, samples=8, seed=1, bounces=1)}
-        (out_dir / f"{name}.cfg.json").write_text(json.dumps(cfg))
-        blender.script("render.py", [out_dir / f"{name}.cfg.json"], blend=sponza_blend, name=name)
-        return layer_pass(read_exr(json.loads((out_dir / f"{name}.json").read_text())["exr"]), "Indirect")
+        config = {"engine": "BOUNCE", "bounce": dict(bounce, samples=8, seed=1, bounces=1)}
+        info, _ = blender.render(config, out_dir / name, sponza_blend)
+        return layer_pass(read_exr(info["exr"]), "Indirect")
     flc = indirect("flc", {"method": "FLC", "flc_visibility": True})
     rays = indirect("rays", {"method": "TOPOLOGY", "topology_visibility": "SHADOW_RAYS"})
     assert np.all(np.isfinite(flc))

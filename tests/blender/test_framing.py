@@ -5,7 +5,6 @@ Cycles: one sample, filter width 0.01), see the same surface at every pixel when
 same way. This checks every camera convention end to end (perspective and orthographic projection, sensor fit,
 lens shift, render border with and without crop) and, on Sponza, base-colour textures and alpha cut-outs.
 """
-import json
 
 import numpy as np
 import pytest
@@ -23,11 +22,7 @@ CAMERAS = {
 
 
 def render(blender, blend, out_dir, name, config):
-    base = out_dir / name
-    cfg = dict(config, out=str(base), info=str(base) + ".json")
-    (out_dir / f"{name}.config.json").write_text(json.dumps(cfg))
-    blender.script("render.py", [out_dir / f"{name}.config.json"], blend=blend, name=name)
-    info = json.loads((out_dir / f"{name}.json").read_text())
+    info, _ = blender.render(config, out_dir / name, blend)
     return read_exr(info["exr"])
 
 

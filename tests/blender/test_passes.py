@@ -33,11 +33,10 @@ def erode(mask):
 def cornell_passes(blender, cornell_blend, out_root):
     out = out_root / "passes"
     out.mkdir(parents=True, exist_ok=True)
-    cfg = {"out": str(out / "cornell"), "engine": "BOUNCE", "info": str(out / "cornell.json"),
-           "bounce": {"method": "DIRECT", "samples": 8, "shadow_map_size": 512}}  # else the add-on's defaults
-    (out / "config.json").write_text(json.dumps(cfg))
-    blender.script("render.py", [out / "config.json"], blend=cornell_blend, name="passes-cornell")
-    return read_exr(json.loads((out / "cornell.json").read_text())["exr"])
+    config = {"engine": "BOUNCE",
+              "bounce": {"method": "DIRECT", "samples": 8, "shadow_map_size": 512}}  # else the add-on's defaults
+    info, _ = blender.render(config, out / "cornell", cornell_blend, "passes-cornell")
+    return read_exr(info["exr"])
 
 
 def test_all_passes_present_and_finite(cornell_passes):

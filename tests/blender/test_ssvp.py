@@ -42,11 +42,10 @@ def test_furnace_converges_to_both_bounces(furnace):
 
 
 def render_cornell(blender, cornell_blend, out, name, **settings):
-    cfg = {"out": str(out / name), "engine": "BOUNCE", "info": str(out / f"{name}.json"), "resolution": 48,
-           "bounce": {"method": "SSVP", "samples": 2, "shadow_map_size": 256, **settings}}
-    (out / f"{name}.cfg.json").write_text(json.dumps(cfg))
-    blender.script("render.py", [out / f"{name}.cfg.json"], blend=cornell_blend, name=f"ssvp-{name}")
-    return read_exr(json.loads((out / f"{name}.json").read_text())["exr"])
+    config = {"engine": "BOUNCE", "resolution": 48,
+              "bounce": {"method": "SSVP", "samples": 2, "shadow_map_size": 256, **settings}}
+    info, _ = blender.render(config, out / name, cornell_blend, f"ssvp-{name}")
+    return read_exr(info["exr"])
 
 
 @pytest.fixture(scope="module")

@@ -1,7 +1,6 @@
 """The topology method through Blender (F12 path, bpy.ops.render.render) on the Cornell box: its passes (Indirect
 and the Topology debug pass), the precomputation printed per stage, the cache across renders in one process,
 determinism under a seed, and the three visibility modes (the paper's Table II columns)."""
-import json
 
 import numpy as np
 import pytest
@@ -12,11 +11,9 @@ SETTINGS = {"method": "TOPOLOGY", "samples": 2, "topology_resolution": 48, "topo
 
 
 def render_cornell(blender, cornell_blend, out, name, **settings):
-    cfg = {"out": str(out / name), "engine": "BOUNCE", "info": str(out / f"{name}.json"), "resolution": 48,
-           "bounce": {**SETTINGS, **settings}}
-    (out / f"{name}.cfg.json").write_text(json.dumps(cfg))
-    result = blender.script("render.py", [out / f"{name}.cfg.json"], blend=cornell_blend, name=f"topology-{name}")
-    return read_exr(json.loads((out / f"{name}.json").read_text())["exr"]), result.stdout
+    config = {"engine": "BOUNCE", "resolution": 48, "bounce": {**SETTINGS, **settings}}
+    info, result = blender.render(config, out / name, cornell_blend, f"topology-{name}")
+    return read_exr(info["exr"]), result.stdout
 
 
 @pytest.fixture(scope="module")

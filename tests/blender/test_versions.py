@@ -1,7 +1,6 @@
 """(c) Same image across versions: render the demo Cornell box with fixed settings and store it as
 <build>/version-images/<blender version>.exr; compare with the images other Blender versions stored (the
 last configuration that runs sees them all; scripts/test also runs version_images.py at the end)."""
-import json
 import shutil
 
 import pytest
@@ -11,30 +10,25 @@ from conftest import BUILD, record
 
 SETTINGS = {"method": "FLC", "samples": 16, "seed": 0, "filter_width": 1.0, "shadow_map_size": 1024}
 VERSION_DIR = BUILD / "version-images"
+DEMO = {"engine": "BOUNCE", "scene": "demo", "resolution": 128, "bounce": SETTINGS}
 
 
 @pytest.fixture(scope="module")
 def version_image(blender, out_root):
     out = out_root / "version-image"
     out.mkdir(parents=True, exist_ok=True)
-    cfg = {"out": str(out / "demo"), "engine": "BOUNCE", "scene": "demo", "resolution": 128,
-           "bounce": SETTINGS, "info": str(out / "demo.json")}
-    (out / "config.json").write_text(json.dumps(cfg))
-    blender.script("render.py", [out / "config.json"], name="version-image")
+    info, _ = blender.render(DEMO, out / "demo", name="version-image")
     VERSION_DIR.mkdir(parents=True, exist_ok=True)
     target = VERSION_DIR / f"{blender.version_string}.exr"
-    shutil.copyfile(json.loads((out / "demo.json").read_text())["exr"], target)
+    shutil.copyfile(info["exr"], target)
     return target
 
 
 def test_render_is_repeatable(blender, version_image, out_dir):
     """Same scene + same seed gives the same image on the same machine (DESIGN.md contract)."""
-    cfg = {"out": str(out_dir / "again"), "engine": "BOUNCE", "scene": "demo", "resolution": 128,
-           "bounce": SETTINGS, "info": str(out_dir / "again.json")}
-    (out_dir / "config.json").write_text(json.dumps(cfg))
-    blender.script("render.py", [out_dir / "config.json"], name="version-image-again")
+    info, _ = blender.render(DEMO, out_dir / "again", name="version-image-again")
     a = version_images.load(version_image)
-    b = version_images.load(json.loads((out_dir / "again.json").read_text())["exr"])
+    b = version_images.load(info["exr"])
     diff = version_images.compare(a, b)
     print("re-render difference:", diff)
     assert all(mx == 0.0 for mx, _ in diff.values()), diff

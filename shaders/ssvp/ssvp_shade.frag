@@ -15,15 +15,21 @@ layout(location = 0) out vec4 out_indirect;
 layout(location = 1) out vec4 out_second;
 
 // Whether the point at distance r along `direction` from cluster c's centre lies in front of what the map's
-// texel saw, give or take `tolerance`: compared with the depth, along that direction, of the plane of the surface
-// the texel saw (its position and normal), exact for a plane however grazing. A plane seen nearly edge-on gives
-// no such depth: the texel centre's own depth then stands, with `edge_on_tolerance`.
-bool in_front_of_texel(ivec3 texel, vec3 centre, vec3 direction, float r, float tolerance, float edge_on_tolerance) {
+// texel saw: compared with the depth, along that direction, of the plane of the surface the texel saw (its
+// position and normal), exact for a plane however grazing. `tolerance` counts only where that surface faces the
+// way the receiver's normal n does (within 60 degrees), so may be the receiver's own (self-shadowing): a receiver
+// just behind another surface, in the next room beyond a single-faced wall, is behind it (with it everywhere, half a
+// footprint of the next room's floor and walls along the wall took the lit room's light, 3-16 times Cycles' in the
+// last 5 pixels before the corner, in the budget's two rooms). A plane seen nearly edge-on gives no such depth:
+// the texel centre's own depth then stands, with `edge_on_tolerance`.
+bool in_front_of_texel(ivec3 texel, vec3 centre, vec3 direction, float r, vec3 n, float tolerance,
+                       float edge_on_tolerance) {
   vec4 seen = texelFetch(paraboloid_position, texel, 0);
   if (seen.w == 0.0) return true;  // nothing in that direction
   vec3 seen_normal = texelFetch(paraboloid_normal, texel, 0).xyz;  // faces the centre
   float facing = dot(direction, seen_normal);
-  if (facing < -0.1) return r <= dot(seen.xyz - centre, seen_normal) / facing + tolerance;
+  float own_surface_tolerance = dot(seen_normal, n) > 0.5 ? tolerance : 0.0;
+  if (facing < -0.1) return r <= dot(seen.xyz - centre, seen_normal) / facing + own_surface_tolerance;
   return r <= seen.w + edge_on_tolerance;
 }
 
@@ -34,7 +40,7 @@ bool in_front_of_texel(ivec3 texel, vec3 centre, vec3 direction, float r, float 
 // whose centre looks just past a wall's end (a wall standing on a floor that runs on under it) counts for its
 // share only. The texel centre's depth alone, with a tolerance of a footprint x the tangent of the incidence for
 // grazing planes, let a lit room's light through a thin wall along every corner of the next (the budget's two
-// rooms: 1.8 times Cycles on the side walls, 1.1-1.17 now). Requiring all four texels to see the receiver
+// rooms: 1.8 times Cycles on the side walls, 1.05-1.13 now). Requiring all four texels to see the receiver
 // shadowed a texel's width more around every occluder (Sponza's first bounce 0.94 -> 0.88 of Cycles).
 float cluster_visibility(int c, vec3 x, vec3 n) {
   vec3 centre = clusters[c].position_first.xyz;
@@ -58,7 +64,7 @@ float cluster_visibility(int c, vec3 x, vec3 n) {
     ivec2 offset = ivec2(i & 1, i >> 1);
     ivec2 texel = clamp(corner + offset, ivec2(0), ivec2(ssvp.paraboloid_size - 1));
     float weight = (offset.x == 1 ? f.x : 1.0 - f.x) * (offset.y == 1 ? f.y : 1.0 - f.y);
-    if (in_front_of_texel(ivec3(texel, c), centre, direction, r, 0.5 * footprint, edge_on_tolerance))
+    if (in_front_of_texel(ivec3(texel, c), centre, direction, r, n, 0.5 * footprint, edge_on_tolerance))
       visibility += weight;
   }
   return visibility;

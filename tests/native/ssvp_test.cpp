@@ -279,6 +279,13 @@ class Ssvp : public RenderFixture {
   }
   // The reference for SSVP's bounces: the mean of `aov` rendered by the Topology method with exact shadow rays
   // for `vpls` VPLs. Leaves the method at SSVP.
+  // The two rooms joined by a doorway (two_rooms()), grey, lit by a point lamp in room A.
+  void two_rooms_lit_in_room_a() {
+    add_soup(1, two_rooms().vertices);
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(0.8f);
+    set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(4, 5, 3), glm::vec3(2000.0f / (4.0f * kPi)))});
+  }
   double ray_traced_vpls(int vpls, int aov) {
     settings_.method = BOUNCE_METHOD_TOPOLOGY;
     settings_.topology_visibility = 1;  // shadow rays
@@ -567,10 +574,7 @@ TEST_F(Ssvp, SecondBounceOfARoomLitThroughBlinds) {
 // cluster's eye stood beyond the doorway lit what that eye sees (the budget's two rooms: 1.8 times Cycles on the
 // side walls; this test: 1.24 before the fix, 1.02 with it). The outer thirds of the view against ray-traced VPLs.
 TEST_F(Ssvp, DoorwayLightStaysOffTheWallsBesideIt) {
-  add_soup(1, two_rooms().vertices);
-  set_instances({1}, {glm::mat4(1.0f)});
-  set_albedo(0.8f);
-  set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(4, 5, 3), glm::vec3(2000.0f / (4.0f * kPi)))});
+  two_rooms_lit_in_room_a();
   set_camera(glm::lookAt(glm::vec3(19.5f, 5, 2), glm::vec3(10, 5, 1.5f), glm::vec3(0, 0, 1)),
              glm::perspective(glm::radians(70.0f), 16.0f / 9.0f, 0.05f, 100.0f), 64, 36);
   settings_.samples = 16;
@@ -592,6 +596,29 @@ TEST_F(Ssvp, DoorwayLightStaysOffTheWallsBesideIt) {
   std::printf("room B's side walls: SSVP %.5f, ray-traced VPLs %.5f (ratio %.3f)\n", ssvp, rays, ssvp / rays);
   ASSERT_GT(rays, 0.0);
   EXPECT_NEAR(ssvp / rays, 1.0, 0.15);
+}
+
+// The same two rooms, their middle wall a single face: room B's floor within a few centimetres of the wall lay
+// within half a texel's footprint of the wall's plane in the maps of room A's eyes, which counted it as in front of
+// the wall and let room A's light through (the budget's two rooms: 3-16 times Cycles in the last 5 pixels before
+// the corner). A close view of the foot of the wall in room B, beside the doorway, against ray-traced VPLs. VPL
+// Importance is off: with it, VPLs join the clusters whose eyes agree with them on the view, and a view this close
+// leaves no VPL in a cluster whose eye looks through the wall. 62 times the rays' light before, 2.2 times now:
+// what is left is the rule that receivers behind a map's hemisphere count as seen (README, Accuracy: 1.18 times
+// with them counted as hidden).
+TEST_F(Ssvp, SingleFacedWallKeepsTheLitRoomsLightOnItsSide) {
+  two_rooms_lit_in_room_a();
+  set_camera(glm::lookAt(glm::vec3(10.3f, 2, 0.3f), glm::vec3(10.02f, 2, 0), glm::vec3(0, 0, 1)),
+             glm::perspective(glm::radians(10.0f), 1.0f, 0.05f, 100.0f), 32, 32);
+  settings_.samples = 16;
+  settings_.bounces = 1;
+  const double rays = ray_traced_vpls(8192, BOUNCE_AOV_INDIRECT);
+  settings_.ssvp_importance = 0;
+  const double ssvp = mean_red(render(BOUNCE_AOV_INDIRECT));
+  std::printf("room B's floor at the foot of the wall: SSVP %.5f, ray-traced VPLs %.5f (ratio %.3f)\n", ssvp, rays,
+              ssvp / rays);
+  ASSERT_GT(rays, 0.0);
+  EXPECT_LT(ssvp / rays, 3.0);
 }
 
 // Maps seen from lights halve until they fit their memory budget (issue 18: SSVP with every costly setting at its

@@ -151,15 +151,21 @@ inline Soup u_corridor() {
   return s;
 }
 
-// A Cornell-like box, 2 x 2 x 2, open at y = 0, with a short and a tall block inside: the open side joins the room to
-// the empty space around it, and the skeleton branches into that space and into the room's edges.
-inline Soup open_box() {
+// A Cornell-like box, 2 x 2 x 2, open at y = 0, empty.
+inline Soup open_box_walls() {
   Soup s;
   s.quad({-1, 0, 0}, {1, 2, 0}, 2);  // floor
   s.quad({-1, 0, 2}, {1, 2, 2}, 2);  // ceiling
   s.quad({-1, 2, 0}, {1, 2, 2}, 1);  // back
   s.quad({-1, 0, 0}, {-1, 2, 2}, 0);
   s.quad({1, 0, 0}, {1, 2, 2}, 0);
+  return s;
+}
+
+// The open box with a short and a tall block inside: the open side joins the room to the empty space around it, and
+// the skeleton branches into that space and into the room's edges.
+inline Soup open_box() {
+  Soup s = open_box_walls();
   s.box({0.1f, 0.3f, 0.0f}, {0.7f, 0.9f, 0.6f});
   s.box({-0.7f, 0.9f, 0.0f}, {-0.1f, 1.5f, 1.2f});
   return s;

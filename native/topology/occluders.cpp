@@ -67,17 +67,15 @@ Occluders estimate_occluders(const Topology& topology, std::span<const glm::vec3
             bin, 0.5f * (float(k) + float(jitter.uniform())), float(jitter.uniform()));
         const float facing = glm::dot(direction, c.normal);
         if (facing == 0.0f) continue;
-        // From the side the direction leaves: a thin surface's two sides see different rooms. The back of a closed
-        // object's surface is inside it, and a ray from there meets the back of a face: it tells nothing of what a
-        // receiver in the cell on another surface (the floor at a pillar's foot) sees.
+        // From the side the direction leaves: a thin surface's two sides see different rooms. A ray that meets the
+        // back of a face started inside a closed object, and tells nothing of what a receiver in the cell on another
+        // surface sees: from a surface's back (the floor at a pillar's foot), or from its front within
+        // behind_occluder's slack (the floor under a rug, the wall behind a picture, whose own inside hid every light
+        // from the receivers on top: the budget's sunlit room had blotches on its rug, the second bounce 0.95 of
+        // Cycles, middle third 0.89; 1.03 and 1.02 without such rays).
         Occluders::Hit hit = first_hit(c.position + (facing > 0.0f ? lift : -lift) * c.normal, direction);
         const bool back_face = glm::dot(hit.normal, direction) > 0.0f;
-        if (facing < 0.0f && back_face) continue;
-        // A ray from the front that meets a back face within behind_occluder's slack started under a closed object
-        // (the floor under a rug, the wall behind a picture): the plane it finds is that object's own inside, which
-        // hid every light from the receivers on the object's top (the budget's sunlit room: blotches on its rug,
-        // the second bounce 0.95 of Cycles, middle third 0.89; 1.03 and 1.02 without such rays).
-        if (back_face && hit.distance < 2.0f * voxel) continue;
+        if (back_face && (facing < 0.0f || hit.distance < 2.0f * voxel)) continue;
         if (back_face) hit.normal = -hit.normal;
         if (std::isfinite(hit.distance)) hit.plane = glm::dot(hit.normal, hit.distance * direction);
         hits[valid++] = hit;

@@ -143,9 +143,10 @@ class RenderFixture : public ::testing::Test {
     camera_.width = width;
     camera_.height = height;
   }
-  // The open box (topology_scenes.h, albedo 0.8) lit by a point light under its ceiling, seen through its open side.
-  void build_lit_open_box() {
-    add_soup(1, open_box().vertices);
+  // The open box (topology_scenes.h, albedo 0.8; `box`: its walls with other things inside) lit by a point light
+  // under its ceiling, seen through its open side.
+  void build_lit_open_box(const Soup& box = open_box()) {
+    add_soup(1, box.vertices);
     set_instances({1}, {glm::mat4(1.0f)});
     set_albedo(0.8f);
     set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(0.0f, 1.0f, 1.9f), glm::vec3(20.0f))});

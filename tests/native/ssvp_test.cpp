@@ -277,8 +277,6 @@ class Ssvp : public RenderFixture {
     const glm::mat4 view = glm::lookAt(glm::vec3(0, -2.2f * size, 0), glm::vec3(0), glm::vec3(0, 0, 1));
     set_camera(view, glm::perspective(glm::radians(40.0f), 1.0f, 0.01f * size, 10.0f * size), 32, 32);
   }
-  // The reference for SSVP's bounces: the mean of `aov` rendered by the Topology method with exact shadow rays
-  // for `vpls` VPLs. Leaves the method at SSVP.
   // The two rooms joined by a doorway (two_rooms()), grey, lit by a point lamp in room A.
   void two_rooms_lit_in_room_a() {
     add_soup(1, two_rooms().vertices);
@@ -286,6 +284,8 @@ class Ssvp : public RenderFixture {
     set_albedo(0.8f);
     set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(4, 5, 3), glm::vec3(2000.0f / (4.0f * kPi)))});
   }
+  // The reference for SSVP's bounces: the mean of `aov` rendered by the Topology method with exact shadow rays
+  // for `vpls` VPLs. Leaves the method at SSVP.
   double ray_traced_vpls(int vpls, int aov) {
     settings_.method = BOUNCE_METHOD_TOPOLOGY;
     settings_.topology_visibility = 1;  // shadow rays

@@ -326,10 +326,7 @@ TEST_F(TopologyRender, OpenBoxKeepsTheLightShadowRaysFind) {
 // second bounce's middle third 0.86-0.90 of Cycles; 1.02 with shadow rays). Clusters and gates against shadow rays,
 // the same VPLs.
 TEST_F(TopologyRender, RugOnAFloorIsNotShadowedByItsOwnInside) {
-  add_soup(1, open_box_walls().box({-0.8f, 0.2f, 0.0f}, {0.8f, 1.8f, 0.01f}).vertices);
-  set_instances({1}, {glm::mat4(1.0f)});
-  set_albedo(0.8f);
-  set_lights({make_light(BOUNCE_LIGHT_POINT, glm::vec3(0.0f, 1.0f, 1.9f), glm::vec3(20.0f))});
+  build_lit_open_box(open_box_walls().box({-0.8f, 0.2f, 0.0f}, {0.8f, 1.8f, 0.01f}));
   set_camera(glm::lookAt(glm::vec3(0.0f, 1.0f, 1.5f), glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(0, 1, 0)),
              glm::perspective(glm::radians(50.0f), 1.0f, 0.05f, 100.0f), 32, 32);
   settings_.samples = 4;

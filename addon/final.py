@@ -183,7 +183,7 @@ def method_text(info, indirect):
 
 def error_forecast(noise_relmse, bias_relmse, samples, seconds, factors=(1, 2, 4, 8)):
     """[(samples, seconds, relMSE), ...] for `factors` times the samples of a render whose noise was estimated at
-    `noise_relmse` (native/src/noise_estimate.h) and whose plan accepts `bias_relmse` (Auto; below 0: unknown,
+    `noise_relmse` (native/src/noise_estimate.h) and whose settings accept `bias_relmse` (below 0: unknown,
     counted as none): noise falls as 1 / samples, the bias stays, time grows with the samples."""
     bias = max(bias_relmse, 0.0)
     return [(samples * k, seconds * k, noise_relmse / k + bias) for k in factors]

@@ -129,8 +129,8 @@ class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
             # What accuracy costs: the estimated error now and for more samples (its measure is the benchmarks').
             layout.label(text="Error (estimated relMSE) for more samples", icon="TIME")
             if info["bias_relmse"] >= 0.0:
-                layout.label(text=f"Of it {info['bias_relmse']:.2g} is what the plan left out or its method's bias: "
-                                  "more samples keep it")
+                layout.label(text=f"Of it {info['bias_relmse']:.2g} is what the render leaves out or its method's "
+                                  "bias: more samples keep it")
             grid = layout.grid_flow(row_major=True, columns=3, even_columns=True, align=True)
             for label in ("Samples", "Time", "relMSE"):
                 grid.label(text=label)

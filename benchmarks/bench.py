@@ -202,9 +202,11 @@ class Errors:
             errors = images.compare(image, reference, "")
         else:
             bounces = simulated_bounces(record, self.defaults, len(self.references))
-            errors = images.compare(images.bounces_apart(image, bounces), images.up_to(reference, bounces), "")
+            target = images.up_to(reference, bounces)
+            errors = images.compare(images.bounces_apart(image, bounces), target, "")
             errors.update(images.compare(image, reference, "full_", parts=("combined",)), oracle_bounces=bounces,
                           reference_exrs=self.paths(scene, record["width"], record["height"]))
+            errors.update(images.bounces_error_shares(image, target, reference, images.geometry_mask(image, reference)))
         if self.cpu_references is not None:
             model = self._load(self.cpu_references.path(scene, record["width"], record["height"]))
             reference = images.against_cpu_model(image, model)

@@ -158,6 +158,21 @@ def relative_mse(image, reference, mask):
     return float(np.mean((x - r) ** 2 / (r * r + 0.01))) if r.size else float("nan")
 
 
+def bounces_error_shares(image, target, reference, mask):
+    """The bounces' part of a render's combined relMSE against `reference` (Cycles with every bounce): the mean of
+    (x - t)^2 / (r^2 + 0.01) for x its indirect light, t the reference's indirect light at the render's own bounce
+    count (`target`) and r the reference's combined; and the same with x = 0, the relMSE that leaving the bounces
+    out would cost (the scene analysis's error weight of them). Their ratio, once the noise is taken out, is the
+    method's bias class (native/src/auto_plan.h)."""
+    if "indirect" not in image or "indirect" not in target:
+        return {}
+    x, t = image["indirect"][mask].astype(np.float64), target["indirect"][mask].astype(np.float64)
+    r = reference["combined"][mask].astype(np.float64)
+    weight = 1.0 / (r * r + 0.01)
+    return {"bounces_error_share": float(np.mean((x - t) ** 2 * weight)) if r.size else float("nan"),
+            "bounces_weight": float(np.mean(t * t * weight)) if r.size else float("nan")}
+
+
 def box_downsample(image, factor=DOWNSAMPLE):
     """The mean of each factor x factor block (rows and columns past the last whole block are dropped)."""
     h, w = image.shape[0] // factor * factor, image.shape[1] // factor * factor
@@ -185,12 +200,17 @@ def mean_ratios(image, reference, mask):
     return out
 
 
+def geometry_mask(image, reference):
+    """The pixels that see geometry: from the reference's alpha, else from the image's, else all."""
+    alpha = reference.get("alpha", image.get("alpha"))
+    return alpha > 0.5 if alpha is not None else np.ones(image["combined"].shape[:2], dtype=bool)
+
+
 def compare(image, reference, prefix, parts=("combined", "direct", "indirect", "first", "second")):
     """Errors of a loaded render against a loaded reference, as {'<prefix>combined_rel_rmse': ...}: per part,
     relative RMSE and MAE, relMSE at full size and downsampled ('_rel_mse_4x4'), the ratio of means (overall and
-    per third) and both means. Background pixels come from the reference's alpha, else from the image's."""
-    alpha = reference.get("alpha", image.get("alpha"))
-    mask = alpha > 0.5 if alpha is not None else np.ones(image["combined"].shape[:2], dtype=bool)
+    per third) and both means, over geometry_mask's pixels."""
+    mask = geometry_mask(image, reference)
     # A downsampled pixel counts when most of its block sees geometry; background is black in both images.
     small_mask = box_downsample(mask.astype(np.float32)) > 0.5
     errors = {}

@@ -17,15 +17,18 @@ struct AutoPlan {
   double estimated_ms = 0.0;  // the cost model's estimate of a sample of the plan; 0 before one was measured
   std::string summary;        // e.g. "Lamps 61 %, world 38 % of the light. Emission 0.4 %: skipped (below 1.0 %).
                               // First bounce 27 %: Screen-Space VPL Propagation. Second bounce 0.6 %: skipped ..."
-  // The error the plan accepts, as relMSE, which more samples do not remove: each effect left out by its error
-  // weight (cpu::SceneAnalysis), each simulated one by its error weight times its method's bias class. -1 for an
-  // explicit method.
+  // The error the plan accepts (accepted_bias); -1 where unknown.
   double bias_relmse = -1.0;
 };
 
 // A method's bias class: the squared relative error per pixel its converged bounces keep against the Cycles
 // oracle (their relMSE over their error weight); 0 for a method without bounces.
-double bounce_bias(int32_t method);
+double bounce_bias(const BounceSettings& settings);
+
+// The error a render with `settings` (an explicit method) accepts, as relMSE, which more samples do not remove:
+// each effect it leaves out (bounces, light source classes) by its error weight in `analysis`, each one it
+// simulates by its error weight times the method's bias class.
+double accepted_bias(const BounceSettings& settings, const cpu::SceneAnalysis& analysis);
 
 // An effect (a light source class, a bounce) whose estimated share of the image is below settings.auto_threshold
 // is not simulated: a source class by drawing none of its lights (World Directions or Emissive Triangles 0, and

@@ -73,7 +73,10 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
   const int64_t pixels = cropped ? int64_t(camera.crop[2] - camera.crop[0]) * (camera.crop[3] - camera.crop[1])
                                  : int64_t(camera.width) * camera.height;
   AutoPlan plan{settings, {}, 0.0, 0.0, ""};
-  if (settings.method == BOUNCE_METHOD_AUTO) plan = plan_auto(settings, analysis(settings, camera), costs_, pixels);
+  if (settings.method == BOUNCE_METHOD_AUTO)
+    plan = plan_auto(settings, analysis(settings, camera), costs_, pixels);
+  else if (plan_frame(settings).needs_cpu_scene())  // Embree's copy is there: the analysis costs milliseconds
+    plan.bias_relmse = accepted_bias(settings, analysis(settings, camera));
   // Every frame published teaches the cost model, whichever method it had, a cancelled render's too (the viewport
   // restarts while one navigates): the share of the VPLs' stages in the stage timer's total splits its time. The
   // topology's precomputation is paid once per scene, not per sample.

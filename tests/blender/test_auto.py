@@ -81,3 +81,16 @@ def test_cost_model_is_kept_between_runs(blender, out_dir):
     assert re.search(r"per sample: cost not measured yet", plans[0]), plans[0]
     assert re.search(r"per sample: (?!cost not measured).*\d+ ms", plans[1]), plans[1]
     assert len(list(kept.glob("cost-model-*.txt"))) == 1, sorted(kept.iterdir())
+
+
+@pytest.mark.parametrize("method", ["FLC", "SSVP", "TOPOLOGY"])
+def test_explicit_methods_estimate_their_bias(method, blender, out_dir):
+    """An explicit method's error estimate holds its bias too: its bias class on the bounces it simulates and, for
+    FLC's one bounce, the second bounce whole (the grey room's second bounce is under 1 % of the image: small)."""
+    result, _ = run_case(blender, "auto_grey_room", out_dir, method)
+    error = re.findall(r"^Bounce: error relMSE (\S+) \(estimated: noise (\S+), bias (\S+)\) after \d+ samples",
+                       result.output, re.M)
+    assert len(error) == 1, f"one error line with a bias expected\n{result.describe()}"
+    total, noise, bias = (float(v) for v in error[0])
+    record(f"auto.explicit_{method.lower()}.bias_relmse", bias)
+    assert bias > 0.0 and noise >= 0.0 and total >= bias

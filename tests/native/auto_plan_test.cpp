@@ -62,18 +62,29 @@ TEST_F(AutoPlan, DarkRoomSkipsTheBouncesItDoesNotNeed) {
 
 // The error a plan accepts is what it leaves out, weighted as relMSE weights it (the benchmarks' measure). In the
 // near-black furnace every pixel has the same direct light d, a first bounce of 0.02 d and a second of 0.02 of
-// that: a direct-light plan leaves both bounces out.
+// that: a direct-light plan leaves both bounces out, whether Auto chose it or the user did.
 TEST_F(AutoPlan, AcceptedErrorIsWhatThePlanLeavesOut) {
   build_furnace();
   set_albedo(0.02f);
   settings_.auto_threshold = 0.03f;
-  const BounceFrameInfo info = render_auto();
+  BounceFrameInfo info = render_auto();
   ASSERT_EQ(info.method, BOUNCE_METHOD_DIRECT);
   const double d = mean_red(read(BOUNCE_AOV_DIRECT)), first = 0.02 * d, second = 0.02 * first;
   const double image = d + first + second;
   const double expected = (first * first + second * second) / (image * image + 0.01);
   EXPECT_GT(expected, 0.0);
   EXPECT_NEAR(info.bias_relmse, expected, expected * 0.05);
+
+  settings_.method = BOUNCE_METHOD_DIRECT;
+  settings_.shadow_method = BOUNCE_SHADOWS_RAY_TRACED;
+  render();
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+  EXPECT_NEAR(info.bias_relmse, expected, expected * 0.05);
+  // Shadow maps need no Embree copy of the scene, which is not built for the estimate alone.
+  settings_.shadow_method = BOUNCE_SHADOWS_MAPS;
+  render();
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+  EXPECT_EQ(info.bias_relmse, -1.0f);
 }
 
 // A plane alone under a sun: no surface sends light to another, so Auto renders direct light only; the Indirect
@@ -94,9 +105,12 @@ TEST_F(AutoPlan, LonePlaneUnderTheSunIsDirectLight) {
   EXPECT_NEAR(mean_red(direct), 0.8 * 3.0 / kPi, 1e-3);
 }
 
-// An explicit method renders as asked, with no plan.
-TEST_F(AutoPlan, ExplicitMethodsHaveNoPlan) {
+// An explicit method renders as asked, with no plan; the error it accepts is its bias class on its one bounce and
+// the second bounce whole, more without Indirect Shadows than with them.
+TEST_F(AutoPlan, ExplicitMethodsHaveNoPlanButTheirBias) {
   build_furnace();
+  const BounceFrameInfo auto_info = render_auto();
+  ASSERT_EQ(auto_info.method, BOUNCE_METHOD_TOPOLOGY);
   settings_.method = BOUNCE_METHOD_FLC;
   render();
   BounceFrameInfo info{};
@@ -104,7 +118,12 @@ TEST_F(AutoPlan, ExplicitMethodsHaveNoPlan) {
   EXPECT_EQ(info.method, BOUNCE_METHOD_FLC);
   EXPECT_STREQ(info.plan, "");
   EXPECT_EQ(info.shares.direct[0], 0.0f);
-  EXPECT_EQ(info.bias_relmse, -1.0f);  // its bias is unknown: only Auto's analysis weighs it
+  EXPECT_GT(info.bias_relmse, auto_info.bias_relmse);  // the second bounce, a quarter of the image, left out
+  const float with_shadows = info.bias_relmse;
+  settings_.flc_visibility = 0;
+  render();
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+  EXPECT_GT(info.bias_relmse, with_shadows);
 }
 
 // The cost model splits a sample's time by the share of the VPL stages until frames of two VPL counts give a

@@ -347,9 +347,11 @@ typedef struct BounceFrameInfo {
                                    (x - r)^2 / (r^2 + 0.01) over the RGB values of Combined, r the converged image):
                                    native/src/noise_estimate.h; -1 where unknown (one sample, or tiles that take
                                    turns: the tile_size setting) */
-  float bias_relmse;            /* AUTO: the error its plan accepts in the same measure, which more samples do not
-                                   remove: what it left out, and its method's bias class on what it simulates
-                                   (native/src/auto_plan.h); -1 otherwise */
+  float bias_relmse;            /* the error its settings accept in the same measure, which more samples do not
+                                   remove: what they leave out, and the method's bias class on what it simulates
+                                   (native/src/auto_plan.h); AUTO's plan always, an explicit method where it has
+                                   Embree's copy of the scene (ray-traced shadows, Indirect Shadows, VPL
+                                   Importance: the defaults); -1 otherwise */
   uint32_t aovs;                /* the AOVs the frame holds, as bits 1 << aov: a render's last frame every AOV of
                                    its method (bounce_method_aovs); the partial frames before it Combined alone,
                                    which is what a progressive display shows, unless the method computes every AOV

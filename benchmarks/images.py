@@ -164,13 +164,13 @@ def bounces_error_shares(image, target, reference, mask):
     count (`target`) and r the reference's combined; and the same with x = 0, the relMSE that leaving the bounces
     out would cost (the scene analysis's error weight of them). Their ratio, once the noise is taken out, is the
     method's bias class (native/src/auto_plan.h)."""
-    if "indirect" not in image or "indirect" not in target:
+    if "indirect" not in image or "indirect" not in target or not mask.any():
         return {}
     x, t = image["indirect"][mask].astype(np.float64), target["indirect"][mask].astype(np.float64)
     r = reference["combined"][mask].astype(np.float64)
     weight = 1.0 / (r * r + 0.01)
-    return {"bounces_error_share": float(np.mean((x - t) ** 2 * weight)) if r.size else float("nan"),
-            "bounces_weight": float(np.mean(t * t * weight)) if r.size else float("nan")}
+    return {"bounces_error_share": float(np.mean((x - t) ** 2 * weight)),
+            "bounces_weight": float(np.mean(t * t * weight))}
 
 
 def box_downsample(image, factor=DOWNSAMPLE):

@@ -22,8 +22,11 @@ struct FramePlan {
   float near_field_clamp = 0.0f;  // a fraction of the scene's radius
   int near_field_blur = 0;
 
-  // Embree's copy of the scene: for ray-traced direct light, building the topology and tracing VPL importance.
-  bool needs_cpu_scene() const { return direct == Direct::RayTraced || indirect_shadows || vpl_importance; }
+  // Embree's copy of the scene: for ray-traced direct light, the Topology method, building the topology and tracing
+  // VPL importance.
+  bool needs_cpu_scene() const {
+    return direct == Direct::RayTraced || indirect == Indirect::Topology || indirect_shadows || vpl_importance;
+  }
 };
 
 inline FramePlan plan_frame(const BounceSettings& settings) {

@@ -124,6 +124,12 @@ TEST_F(AutoPlan, ExplicitMethodsHaveNoPlanButTheirBias) {
   render();
   ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
   EXPECT_GT(info.bias_relmse, with_shadows);
+  // Topology traces its rays whatever the Shadow Method: Embree's copy is always there, and so is the estimate.
+  settings_.method = BOUNCE_METHOD_TOPOLOGY;
+  settings_.shadow_method = BOUNCE_SHADOWS_MAPS;
+  render();
+  ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
+  EXPECT_GE(info.bias_relmse, 0.0f);
 }
 
 // The cost model splits a sample's time by the share of the VPL stages until frames of two VPL counts give a

@@ -350,8 +350,8 @@ typedef struct BounceFrameInfo {
   float bias_relmse;            /* the error its settings accept in the same measure, which more samples do not
                                    remove: what they leave out, and the method's bias class on what it simulates
                                    (native/src/auto_plan.h); AUTO's plan always, an explicit method where it has
-                                   Embree's copy of the scene (ray-traced shadows, Indirect Shadows, VPL
-                                   Importance: the defaults); -1 otherwise */
+                                   Embree's copy of the scene (TOPOLOGY; ray-traced shadows, Indirect Shadows,
+                                   VPL Importance: the defaults); -1 otherwise */
   uint32_t aovs;                /* the AOVs the frame holds, as bits 1 << aov: a render's last frame every AOV of
                                    its method (bounce_method_aovs); the partial frames before it Combined alone,
                                    which is what a progressive display shows, unless the method computes every AOV

@@ -218,7 +218,7 @@ def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
     remember_plan(info, "final render")
     last_render.clear()
     last_render.update(
-        stages=stages, samples=info.samples, width=info.width, height=info.height,
+        stages=stages, samples=info.samples, bounces=info.bounces, width=info.width, height=info.height,
         render_seconds=render_seconds, sync_seconds=sync_stats.last_sync_seconds,
         triangles=scene_stats.triangle_count, dropped_triangles=scene_stats.dropped_triangles,
         lights=scene_stats.light_count, skipped_lights=scene_stats.skipped_lights,

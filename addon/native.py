@@ -265,6 +265,7 @@ class FrameInfo(ctypes.Structure):
                 ("main_light", _i32),
                 ("cluster_count", _i32),
                 ("method", _i32),
+                ("bounces", _i32),
                 ("plan_text", ctypes.c_char * 512),
                 ("shares", LightShares),
                 ("noise_relmse", _f32), ("bias_relmse", _f32),

@@ -216,15 +216,13 @@ class Errors:
 
 
 def simulated_bounces(record, defaults, most):
-    """The diffuse bounces a render simulates, at most `most`: none for DIRECT, one for FLC, the 'bounces'
-    setting (or its default) for the others; a Cycles render the `most` of the references it is measured with. AUTO
-    is measured against `most`: the bounces it leaves out count as its error."""
-    if record.get("engine") == "CYCLES":
+    """The diffuse bounces a render simulates, at most `most`, as its frame said (BounceFrameInfo::bounces); a
+    Cycles render the `most` of the references it is measured with. AUTO is measured against `most`: the bounces
+    it leaves out count as its error."""
+    if record.get("engine") == "CYCLES" or (record.get("params") or {}).get("method",
+                                                                             defaults.get("method")) == "AUTO":
         return most
-    params = record.get("params") or {}
-    method = params.get("method", defaults.get("method"))
-    bounces = {"DIRECT": 0, "FLC": 1, "AUTO": most}.get(method, params.get("bounces", defaults.get("bounces", most)))
-    return min(int(bounces), most)
+    return min(int(record["bounces_simulated"]), most)
 
 
 def main(argv=None):

@@ -233,7 +233,7 @@ def render_once(scene, job, records, meta, progress, exr=None):
         info = dict(final.last_render)
         if not info:
             raise RuntimeError("the render produced no frame (see the report above)")
-        record.update(samples=info["samples"], sync_seconds=info["sync_seconds"],
+        record.update(samples=info["samples"], bounces_simulated=info["bounces"], sync_seconds=info["sync_seconds"],
                       render_seconds=info["render_seconds"], triangles=info["triangles"],
                       instances=info.get("instances"),
                       stages={stage: {"gpu_ms": gpu, "cpu_ms": cpu} for stage, gpu, cpu in info["stages"]})

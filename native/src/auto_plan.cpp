@@ -119,19 +119,20 @@ std::string fit_budget(BounceSettings& out, double budget, const CostModel& cost
   }
 }
 
-// The bounces the analysis weighs a plan by.
+}  // namespace
+
 int32_t simulated_bounces(const BounceSettings& settings) {
   switch (settings.method) {
     case BOUNCE_METHOD_DIRECT:
       return 0;
     case BOUNCE_METHOD_FLC:
       return 1;  // the paper's one bounce
+    case BOUNCE_METHOD_SSVP:
+      return std::min(settings.bounces, 2);  // it propagates two at most
     default:
-      return std::min(settings.bounces, 2);  // the analysis weighs two; SSVP propagates two at most
+      return settings.bounces;
   }
 }
-
-}  // namespace
 
 double bounce_bias(const BounceSettings& settings) {
   // Measured by `scripts/benchmark --suite budget-time --quick` against Cycles (README, Auto; the report's "Bias
@@ -154,7 +155,7 @@ double bounce_bias(const BounceSettings& settings) {
 
 double accepted_bias(const BounceSettings& settings, const cpu::SceneAnalysis& analysis) {
   const double bias = bounce_bias(settings);
-  const int32_t bounces = simulated_bounces(settings);
+  const int32_t bounces = simulated_bounces(settings);  // the analysis weighs two
   double error = bounces >= 2
                      ? bias * analysis.error_weight_bounces
                      : (bounces == 1 ? bias : 1.0) * analysis.error_weight_first + analysis.error_weight_second;

@@ -42,6 +42,7 @@ TEST_F(AutoPlan, FurnaceSharesFollowTheAlbedoPowers) {
   EXPECT_EQ(s.openness, 0.0f);
   EXPECT_GT(s.analysis_ms, 0.0f);
   EXPECT_EQ(info.method, BOUNCE_METHOD_TOPOLOGY);
+  EXPECT_EQ(info.bounces, 2);
   EXPECT_NE(std::string(info.plan).find("First bounce 33 % and second 26 %"), std::string::npos) << info.plan;
 }
 
@@ -52,10 +53,12 @@ TEST_F(AutoPlan, DarkRoomSkipsTheBouncesItDoesNotNeed) {
   set_albedo(0.02f);
   BounceFrameInfo info = render_auto();
   EXPECT_EQ(info.method, BOUNCE_METHOD_TOPOLOGY);
+  EXPECT_EQ(info.bounces, 1);
   EXPECT_NE(std::string(info.plan).find("Second bounce 0.0 %: skipped (below 1.0 %)"), std::string::npos) << info.plan;
   settings_.auto_threshold = 0.03f;
   info = render_auto();
   EXPECT_EQ(info.method, BOUNCE_METHOD_DIRECT);
+  EXPECT_EQ(info.bounces, 0);
   EXPECT_NE(std::string(info.plan).find("Bounces 2.0 %: skipped (below 3.0 %)"), std::string::npos) << info.plan;
   EXPECT_EQ(info.shares.analysis_ms, 0.0f);  // the same scene and view: the analysis is kept
 }
@@ -116,6 +119,7 @@ TEST_F(AutoPlan, ExplicitMethodsHaveNoPlanButTheirBias) {
   BounceFrameInfo info{};
   ASSERT_BOUNCE_OK(bounce_frame_info(engine_, &info));
   EXPECT_EQ(info.method, BOUNCE_METHOD_FLC);
+  EXPECT_EQ(info.bounces, 1);  // the paper's one, whatever the Bounces setting
   EXPECT_STREQ(info.plan, "");
   EXPECT_EQ(info.shares.direct[0], 0.0f);
   EXPECT_GT(info.bias_relmse, auto_info.bias_relmse);  // the second bounce, a quarter of the image, left out

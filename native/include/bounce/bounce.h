@@ -341,6 +341,8 @@ typedef struct BounceFrameInfo {
                                    an emissive surface */
   int32_t cluster_count;        /* SSVP: k-means clusters of the last sample; TOPOLOGY: visibility clusters */
   int32_t method;               /* the method that rendered the frame (AUTO's choice; never AUTO) */
+  int32_t bounces;              /* the diffuse bounces it simulates: 0 for DIRECT, 1 for FLC, the bounces setting
+                                   for TOPOLOGY and SSVP (2 at most) */
   char plan[512];               /* AUTO: what it simulated and left out, and why, in a few sentences; "" otherwise */
   BounceLightShares shares;     /* AUTO: the analysis the plan came from; zeros otherwise */
   float noise_relmse;           /* the noise its samples left, estimated as the benchmarks' relMSE (mean of

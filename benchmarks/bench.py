@@ -174,13 +174,13 @@ def jobs_for(scene, width, height, configs, args, suite, renders, errors):
 class Errors:
     """Loads each reference once and measures renders against it (and against the CPU model, if wanted).
     `references`: the Cycles references with 1 .. k bounces; renders are measured against the k-bounce one,
-    and with k = 2 each bounce against its own part. With `defaults` (scene.bounce's settings and their default
-    values), each render is measured against the bounces its method simulates instead (simulated_bounces), and
-    its combined also against the k-bounce reference ('full_' columns)."""
+    and with k = 2 each bounce against its own part. With `by_bounces`, each render is measured against the
+    bounces its method simulates instead (simulated_bounces), and its combined also against the k-bounce reference
+    ('full_' columns)."""
 
-    def __init__(self, references, cpu_references, defaults=None):
+    def __init__(self, references, cpu_references, by_bounces=False):
         self.references, self.cpu_references, self.loaded = references, cpu_references, {}
-        self.defaults = defaults
+        self.by_bounces = by_bounces
 
     def paths(self, scene, width, height):
         return [str(r.path(scene, width, height)) for r in self.references]
@@ -198,10 +198,10 @@ class Errors:
             return {}
         image = images.load(record["exr"])
         reference = self.reference(scene, record["width"], record["height"])
-        if self.defaults is None:
+        if not self.by_bounces:
             errors = images.compare(image, reference, "")
         else:
-            bounces = simulated_bounces(record, self.defaults, len(self.references))
+            bounces = simulated_bounces(record, len(self.references))
             target = images.up_to(reference, bounces)
             errors = images.compare(images.bounces_apart(image, bounces), target, "")
             errors.update(images.compare(image, reference, "full_", parts=("combined",)), oracle_bounces=bounces,
@@ -215,12 +215,11 @@ class Errors:
         return errors
 
 
-def simulated_bounces(record, defaults, most):
+def simulated_bounces(record, most):
     """The diffuse bounces a render simulates, at most `most`, as its frame said (BounceFrameInfo::bounces); a
-    Cycles render the `most` of the references it is measured with. AUTO is measured against `most`: the bounces
-    it leaves out count as its error."""
-    if record.get("engine") == "CYCLES" or (record.get("params") or {}).get("method",
-                                                                             defaults.get("method")) == "AUTO":
+    Cycles render the `most` of the references it is measured with. AUTO (a render with a plan) is measured
+    against `most`: the bounces it leaves out count as its error."""
+    if record.get("engine") == "CYCLES" or record.get("plan"):
         return most
     return min(int(record["bounces_simulated"]), most)
 
@@ -248,7 +247,7 @@ def main(argv=None):
         "FLC" in {c["method"] for c in configs}
     cpu_references = runner.CpuReferences(
         references[0].folder, args.cpu_reference_points or (4096 if args.quick else 65536)) if use_cpu_model else None
-    measure = Errors(references, cpu_references, probe["settings"] if suite.reference_per_method else None)
+    measure = Errors(references, cpu_references, by_bounces=suite.reference_per_method)
 
     if args.report_only:
         records = [json.loads(line) for line in (out / "records.jsonl").read_text().splitlines() if line.strip()]

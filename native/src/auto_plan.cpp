@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "frame_plan.h"
 #include "settings.h"
 
 namespace bounce {
@@ -121,19 +122,6 @@ std::string fit_budget(BounceSettings& out, double budget, const CostModel& cost
 
 }  // namespace
 
-int32_t simulated_bounces(const BounceSettings& settings) {
-  switch (settings.method) {
-    case BOUNCE_METHOD_DIRECT:
-      return 0;
-    case BOUNCE_METHOD_FLC:
-      return 1;  // the paper's one bounce
-    case BOUNCE_METHOD_SSVP:
-      return std::min(settings.bounces, 2);  // it propagates two at most
-    default:
-      return settings.bounces;
-  }
-}
-
 double bounce_bias(const BounceSettings& settings) {
   // Measured by `scripts/benchmark --suite budget-time --quick` against Cycles (README, Auto; the report's "Bias
   // classes"): per scene, the bias of a method's bounces (from their error at 1 and 4 samples as B + V / N) over
@@ -155,7 +143,7 @@ double bounce_bias(const BounceSettings& settings) {
 
 double accepted_bias(const BounceSettings& settings, const cpu::SceneAnalysis& analysis) {
   const double bias = bounce_bias(settings);
-  const int32_t bounces = simulated_bounces(settings);  // the analysis weighs two
+  const int bounces = plan_frame(settings).bounces;  // the analysis weighs two
   double error = bounces >= 2
                      ? bias * analysis.error_weight_bounces
                      : (bounces == 1 ? bias : 1.0) * analysis.error_weight_first + analysis.error_weight_second;

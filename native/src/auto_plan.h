@@ -21,10 +21,6 @@ struct AutoPlan {
   double bias_relmse = -1.0;
 };
 
-// The diffuse bounces a render with `settings` (an explicit method) simulates: none for direct light, the paper's
-// one for FLC, the Bounces setting for the others (SSVP propagates two at most).
-int32_t simulated_bounces(const BounceSettings& settings);
-
 // A method's bias class: the squared relative error per pixel its converged bounces keep against the Cycles
 // oracle (their relMSE over their error weight); 0 for a method without bounces.
 double bounce_bias(const BounceSettings& settings);

@@ -2,6 +2,8 @@
 // holds no rule of its own about which pass runs. A new effect is a new pass plus a line here.
 #pragma once
 
+#include <algorithm>
+
 #include "bounce/bounce.h"
 
 namespace bounce {
@@ -12,6 +14,7 @@ struct FramePlan {
   enum class NearField { None, RayTraced, FromGBuffer };
   Direct direct = Direct::RayTraced;
   Indirect indirect = Indirect::None;
+  int bounces = 0;                // diffuse bounces simulated: the paper's one for FLC, SSVP two at most
   bool indirect_shadows = false;  // the topology's clusters and gates shadow Forward Light Cuts' VPLs
   int vpl_candidates = 1;         // Forward Light Cuts' VPLs drawn per VPL kept by its light, once rays have lit them
   bool vpl_importance = false;    // SSVP draws its VPLs where shadow rays say their light reaches the view
@@ -36,6 +39,7 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
   switch (settings.method) {
     case BOUNCE_METHOD_FLC:
       plan.indirect = FramePlan::Indirect::ForwardLightCuts;
+      plan.bounces = 1;
       plan.indirect_shadows = settings.flc_visibility != 0;
       plan.vpl_candidates = plan.direct == FramePlan::Direct::RayTraced ? settings.flc_vpl_candidates : 1;
       plan.near_field_clamp = settings.flc_epsilon;
@@ -43,12 +47,14 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
       break;
     case BOUNCE_METHOD_SSVP:
       plan.indirect = FramePlan::Indirect::Ssvp;
+      plan.bounces = std::min(settings.bounces, 2);
       plan.vpl_importance = settings.ssvp_importance != 0;
       plan.near_field_clamp = settings.ssvp_distance_clamp;
       plan.near_field_blur = settings.ssvp_blur_radius;
       break;
     case BOUNCE_METHOD_TOPOLOGY:
       plan.indirect = FramePlan::Indirect::Topology;
+      plan.bounces = settings.bounces;
       break;
     default:  // DIRECT (AUTO renders with the explicit method of its plan: auto_plan.h)
       break;

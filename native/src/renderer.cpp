@@ -91,7 +91,7 @@ bool Renderer::render(const BounceSettings& settings, const BounceCamera& camera
     const double total_ms = timer_.total_milliseconds() - precompute_ms;
     vpl_share = total_ms > 0.0 ? vpl_stages_milliseconds(timer_, plan.settings.method) / total_ms : 0.0;
     frame->info.method = plan.settings.method;
-    frame->info.bounces = simulated_bounces(plan.settings);
+    frame->info.bounces = plan_frame(plan.settings).bounces;
     const std::string used = plan.budget_ms > 0.0 ? " Used " + std::to_string(std::lround(sample_ms)) + " ms." : "";
     std::snprintf(frame->info.plan, sizeof frame->info.plan, "%s", (plan.summary + used).c_str());
     frame->info.shares = plan.shares;

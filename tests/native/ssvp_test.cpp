@@ -376,12 +376,6 @@ TEST_F(Ssvp, ClusterNormalAlongAParaboloidHorizon) {
 // first bounce is exact in expectation, and the second loses only what clusters emit behind their own plane
 // (about 1 / 2k of it for k clusters on a sphere).
 TEST_F(Ssvp, SphereFurnaceConvergesToBothBounces) {
-#ifdef __SANITIZE_ADDRESS__
-  // 1024 tessellated paraboloid draws: Mesa's tessellator grows its buffers with realloc, which ASan turns into
-  // a copy every time (over 5 minutes here instead of 10 s). The plain build runs this test; the sanitizer build
-  // runs the other SSVP GPU tests, which draw the same code paths at a small size.
-  GTEST_SKIP() << "too slow under AddressSanitizer (Mesa reallocs); run by the plain ctest";
-#endif
   build_furnace();
   settings_.samples = 16;
   settings_.ssvp_vpls = 1024;

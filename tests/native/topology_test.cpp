@@ -386,9 +386,6 @@ TEST(TopologyHardInputs, ResolutionOne) {
 
 // The largest resolution over a scene that is mostly empty space: the most voxels to thin.
 TEST(TopologyHardInputs, LargestResolution) {
-#ifdef __SANITIZE_ADDRESS__
-  GTEST_SKIP() << "16 million voxels to thin: minutes under AddressSanitizer; run by the plain ctest";
-#endif
   Soup tetra;
   tetra.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {0, 0, 1}, {1, 1, 1}};
   const Topology largest = build_at(tetra, kMaxResolution + 100);

@@ -380,7 +380,9 @@ TEST_F(FlcIndirectShadows, EdgesOfALitRoomKeepItsLight) {
 // shines down in room A, so that no direct light crosses the grille and all of room B's indirect light comes from
 // room A. The share of it the grille lets through, over what the same opening without fins lets through, matches
 // the Topology method's with a shadow ray per VPL (ratios, so that each method's own first-bounce bias cancels).
-// By the gates alone the share was 0.
+// By the gates alone the share was 0; with the passage's rectangle along the crossings' principal axes, about
+// their weighted mean, 0.557 against 0.617 (it reached past the opening, and the wall's blocked segments lowered
+// the share); with the smallest rectangle around the crossings, 0.615.
 TEST_F(FlcIndirectShadows, GrillePassesTheShareOfLightItsGapsLetThrough) {
   const auto room_b = [&](bool fins, int method) {
     light_room_a_floor(two_rooms_with_grille(fins));
@@ -396,16 +398,16 @@ TEST_F(FlcIndirectShadows, GrillePassesTheShareOfLightItsGapsLetThrough) {
       "room B's light through the grille over the open opening: %.3f with Indirect Shadows, %.3f by shadow "
       "rays\n",
       passed, traced);
-  EXPECT_NEAR(passed, traced, 0.3 * traced);
+  EXPECT_NEAR(passed, traced, 0.05 * traced);
 }
 
 // The budget's sunlit interior in small: a room lit by a sun through deep blinds whose 8.8 cm gaps the grid closes.
 // The sunlit tops of the slats give the room about half its first bounce (the sunlit interior: 0.53 of it by shadow
 // rays), and their voxels are solid, so their VPLs take either side's cluster and reach the room through the
 // passage's near share or as its own; the ground's light comes through the far share. The room's first bounce seen
-// from beside the window, over 4 seeds, against a shadow ray per VPL (the Topology method): 1.008. Giving the slats'
-// light the share of rays that leave the slab, pooled over the slats' faces, made it 1.171: their shaded fronts see
-// out freely where their sunlit tops do not.
+// from beside the window, over 4 seeds, against a shadow ray per VPL (the Topology method): 1.004 (1.010 with the
+// passage rectangle about the crossings' mean). Giving the slats' light the share of rays that leave the slab, pooled
+// over the slats' faces, made it 1.171: their shaded fronts see out freely where their sunlit tops do not.
 TEST_F(FlcIndirectShadows, RoomLitThroughDeepBlindsMatchesShadowRays) {
   const auto room = [&](int method, int seed) {
     add_soup(1, room_with_deep_blinds().vertices);

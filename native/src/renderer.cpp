@@ -255,7 +255,8 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       if (callbacks.cancelled()) return false;
       flc_.generate(frame_context, plan.vpl_candidates);
       if (traced_direct)
-        flc_.add_traced_light(frame_context, cpu_scene_, scene_lights_);
+        flc_.add_traced_light(frame_context, cpu_scene_, scene_lights_,
+                              flc_visibility ? &topology_visibility_ : nullptr);
       else
         direct_.for_each_shadowed_light(frame_context, shadows_, [&] { flc_.add_light(frame_context); });
       vpl_count = flc_.vpl_count();

@@ -16,6 +16,7 @@ flat out vec3 s_radiance_factor;  // rho_i E / pi, times S_k and the interleavin
 flat out vec4 s_partition;  // D_{k-1}, D_k, D_{k+1}, and (k == 0) + 2 (k == N)
 flat out ivec2 s_tile;
 flat out uint s_cluster;  // Indirect Shadows: the visibility cluster on the lit side
+flat out uint s_ray_map;  // Indirect Shadows: 1 + the lit side's ray map (FlcPass::trace_ray_maps), 0 for none
 
 layout(location = 0) uniform mat4 u_view_projection;
 
@@ -41,7 +42,8 @@ bool ball_pixel_bounds(vec3 centre, float radius, out vec4 bounds) {
   return all(lessThan(lo, hi));
 }
 
-void emit_side(Vpl vpl, vec3 n, vec3 irradiance, ivec2 tile, float tile_weight) {
+void emit_side(Vpl vpl, vec3 n, vec4 irradiance_map, ivec2 tile, float tile_weight) {
+  vec3 irradiance = irradiance_map.rgb;
   if (all(lessThanEqual(irradiance, vec3(0.0)))) return;
   int level = int(vpl.normal_level.w);
   float support = flc_support_distance(level, flc.levels, flc.d0, flc.mu);
@@ -66,6 +68,7 @@ void emit_side(Vpl vpl, vec3 n, vec3 irradiance, ivec2 tile, float tile_weight) 
                      level < flc.levels ? flc_level_distance(flc.d0, flc.mu, level + 1) : 0.0,
                      float((level == 0 ? 1 : 0) + (level == flc.levels ? 2 : 0)));
   s_tile = tile;
+  s_ray_map = flc.visibility != 0 ? floatBitsToUint(irradiance_map.w) : 0u;
   s_cluster = flc.visibility != 0 ? topology_cluster_at(vpl.position_scale.xyz, n) : TOPOLOGY_NO_CLUSTER;
   for (int i = 0; i < 4; ++i) {
     vec2 corner = vec2((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y);
@@ -85,6 +88,6 @@ void main() {
   // expectation.
   float tile_weight = float(tiles * tiles);
   vec3 n = vpl.normal_level.xyz;
-  emit_side(vpl, n, vpl.front.rgb, tile, tile_weight);
-  emit_side(vpl, -n, vpl.back.rgb, tile, tile_weight);
+  emit_side(vpl, n, vpl.front, tile, tile_weight);
+  emit_side(vpl, -n, vpl.back, tile, tile_weight);
 }

@@ -33,20 +33,25 @@ PASSAGES_INLINE vec3 direction_from_octahedral(vec2 e) {
   return normalize(vec3(u, v, z));
 }
 
-// The bin of a nonzero direction d on a TOPOLOGY_PASSAGE_BINS_PER_SIDE square grid over the octahedral map.
-PASSAGES_INLINE int topology_passage_bin(vec3 d) {
+// The bin of a nonzero direction d on a `side` x `side` square grid over the octahedral map.
+PASSAGES_INLINE int octahedral_bin(vec3 d, int side) {
   vec2 e = octahedral_from_direction(d);
-  int n = TOPOLOGY_PASSAGE_BINS_PER_SIDE;
-  int i = min(int((e.x * 0.5f + 0.5f) * float(n)), n - 1);
-  int j = min(int((e.y * 0.5f + 0.5f) * float(n)), n - 1);
-  return j * n + i;
+  int i = min(int((e.x * 0.5f + 0.5f) * float(side)), side - 1);
+  int j = min(int((e.y * 0.5f + 0.5f) * float(side)), side - 1);
+  return j * side + i;
 }
 
-// The unit direction at (s, t) in [0, 1]^2 of bin `bin` ((0.5, 0.5): its centre; topology_passage_bin's inverse).
+// The unit direction at (s, t) in [0, 1]^2 of bin `bin` of a `side` x `side` grid ((0.5, 0.5): its centre;
+// octahedral_bin's inverse).
+PASSAGES_INLINE vec3 octahedral_bin_direction(int bin, int side, float s, float t) {
+  return direction_from_octahedral(vec2((float(bin % side) + s) / float(side) * 2.0f - 1.0f,
+                                        (float(bin / side) + t) / float(side) * 2.0f - 1.0f));
+}
+
+PASSAGES_INLINE int topology_passage_bin(vec3 d) { return octahedral_bin(d, TOPOLOGY_PASSAGE_BINS_PER_SIDE); }
+
 PASSAGES_INLINE vec3 topology_passage_bin_direction(int bin, float s, float t) {
-  int n = TOPOLOGY_PASSAGE_BINS_PER_SIDE;
-  return direction_from_octahedral(vec2((float(bin % n) + s) / float(n) * 2.0f - 1.0f,
-                                        (float(bin / n) + t) / float(n) * 2.0f - 1.0f));
+  return octahedral_bin_direction(bin, TOPOLOGY_PASSAGE_BINS_PER_SIDE, s, t);
 }
 
 // A passage keeps two tables of shares: light whose source or receiver lies within this many voxels of its plane

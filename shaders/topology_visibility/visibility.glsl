@@ -158,7 +158,9 @@ bool topology_voxels_clear(vec3 p, vec3 n_p, vec3 x, vec3 n_x) {
   return true;
 }
 
-// How much of a light at p in cluster `from` reaches x in cluster `to`, as on the CPU (cpu::reaches): a light
+// How much of a light at p in cluster `from` reaches x in cluster `to`, as on the CPU (cpu::reaches), its light
+// entering the empty space `light_reach` from x at most (TOPOLOGY_WITHIN_CLUSTER: at p; for a light in thin
+// geometry, where the ray of its ray map entered it, the ray having seen to the thin geometry): a light
 // without a cluster lights nothing (the CPU casts it a shadow ray; there are no rays here); a receiver without
 // one has no visibility information and takes every light but those a surface inside the cluster hides (as does
 // the light's own cluster); clusters no chain of gates joins pass their passage's share in the direction p-x where
@@ -167,9 +169,9 @@ bool topology_voxels_clear(vec3 p, vec3 n_p, vec3 x, vec3 n_x) {
 // surfaces between x and the last gate leave (topology_unoccluded), and none when it does not. A chain through a
 // second opening holds only where the voxels between p and x are clear, and then passes all of the light, as a
 // shadow ray's word does on the CPU.
-float topology_visibility(uint from, vec3 p, vec3 n_p, uint to, vec3 x, vec3 n_x) {
+float topology_visibility(uint from, vec3 p, vec3 n_p, uint to, vec3 x, vec3 n_x, float light_reach) {
   if (from == TOPOLOGY_NO_CLUSTER) return 0.0;
-  if (to == TOPOLOGY_NO_CLUSTER || from == to) return topology_unoccluded(p, x, TOPOLOGY_WITHIN_CLUSTER);
+  if (to == TOPOLOGY_NO_CLUSTER || from == to) return topology_unoccluded(p, x, light_reach);
   float passage = topology_passage(from, p, to, x);
   if (passage > 0.0) return passage;
   uint walk[TOPOLOGY_WALK_CLUSTERS];
@@ -194,7 +196,8 @@ float topology_visibility(uint from, vec3 p, vec3 n_p, uint to, vec3 x, vec3 n_x
           if (topology_voxels_clear(p, n_p, x, n_x)) return 1.0;
           continue;
         }
-        return topology_unoccluded(p, x, gate_entry_distance(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, x));
+        return topology_unoccluded(
+            p, x, min(light_reach, gate_entry_distance(p, gate.centre_half_u.xyz, gate.normal_half_v.xyz, x)));
       }
       if (walked < uint(TOPOLOGY_WALK_CLUSTERS)) {
         via_second[walked] = second;

@@ -110,6 +110,31 @@ class RenderFixture : public ::testing::Test {
                              slots.data()};
     ASSERT_BOUNCE_OK(bounce_instances_set(engine_, &desc));
   }
+  // One instance per key at the identity, instance i with a grey material of albedo albedos[i].
+  void set_grey_instances(const std::vector<uint64_t>& keys, const std::vector<float>& albedos) {
+    std::vector<BounceMaterial> materials(albedos.size());
+    for (std::size_t i = 0; i < albedos.size(); ++i) {
+      materials[i].base_color[0] = materials[i].base_color[1] = materials[i].base_color[2] = albedos[i];
+      materials[i].alpha = 1.0f;
+      materials[i].alpha_threshold = 0.5f;
+    }
+    ASSERT_BOUNCE_OK(bounce_materials_set(engine_, static_cast<uint32_t>(materials.size()), materials.data()));
+    std::vector<float> matrices;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      const glm::mat4 identity(1.0f);
+      matrices.insert(matrices.end(), glm::value_ptr(identity), glm::value_ptr(identity) + 16);
+    }
+    std::vector<uint32_t> offsets(keys.size()), counts(keys.size(), 1), slots(keys.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) offsets[i] = slots[i] = static_cast<uint32_t>(i);
+    const BounceInstancesDesc desc{static_cast<uint32_t>(keys.size()),
+                                   keys.data(),
+                                   matrices.data(),
+                                   offsets.data(),
+                                   counts.data(),
+                                   uint32_t(slots.size()),
+                                   slots.data()};
+    ASSERT_BOUNCE_OK(bounce_instances_set(engine_, &desc));
+  }
   void set_albedo(float albedo) {
     BounceMaterial material{};
     material.base_color[0] = material.base_color[1] = material.base_color[2] = albedo;

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <optional>
 #include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -15,6 +18,7 @@
 #include "gl/shader.h"
 #include "passes/flc/flc_math.h"
 #include "sampling.h"
+#include "topology/shared_glsl.h"
 
 namespace bounce {
 
@@ -37,6 +41,11 @@ constexpr uint32_t kInitialDivergentCapacity = 1u << 12;
 constexpr int kMaxRegrowths = 8;
 constexpr uint64_t kTracedVplLight = 33;  // random streams: the VPLs' shadow rays (TracedDirectPass: 31, 32)
 constexpr uint64_t kVplRoulette = 34;     // and which candidates are kept
+constexpr uint64_t kRayMaps = 35;         // the directions of the ray maps' rays
+constexpr uint64_t kRayMapShare = 36;     // which sides get one, beyond kMaxRayMaps
+constexpr GLuint kRayMapsBinding = 15;    // flc_splat.frag's FlcRayMaps
+// Ray maps of a sample at most (2 KiB and FLC_RAY_MAP_BINS rays each): the budget's scenes make 80-180.
+constexpr std::size_t kMaxRayMaps = 8192;
 
 // A VPL's random stream: its triangle's random number (Alg. 1's) and its level. The order in which the GPU
 // appends VPLs varies between runs and positions change with the scene's scale; these do not.
@@ -214,7 +223,7 @@ void FlcPass::add_light(const RenderContext& context) {
 }
 
 void FlcPass::add_traced_light(const RenderContext& context, const cpu::CpuScene& scene,
-                               const SceneLights& scene_lights) {
+                               const SceneLights& scene_lights, const TopologyVisibilityPass* visibility) {
   if (vpl_count_ == 0 || context.lights.empty() || scene.triangle_count() == 0) return;
   StageScope scope(context.timer, Stage::FlcLighting);
   traced_vpls_.resize(std::size_t(vpl_count_));
@@ -261,9 +270,84 @@ void FlcPass::add_traced_light(const RenderContext& context, const cpu::CpuScene
     glNamedBufferSubData(counters_.id(), 0, sizeof vpl_count_, &vpl_count_);  // the splat's draw count
     if (kept == 0) return;
   }
+  if (visibility) trace_ray_maps(context, scene, *visibility);
   glNamedBufferSubData(vpls_.id(), 0, GLsizeiptr(traced_vpls_.size() * sizeof(HostVpl)), traced_vpls_.data());
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   gl::check("lighting the Forward Light Cuts VPLs with rays");
+}
+
+void FlcPass::trace_ray_maps(const RenderContext& context, const cpu::CpuScene& scene,
+                             const TopologyVisibilityPass& visibility) {
+  // Where the grid closes the gaps of thin geometry (the slats of blinds, the sill under them and the window's
+  // reveals, 8.8 cm apart in 11 cm voxels), a light on its surface has no empty voxel along its normal, and the
+  // cluster it fell back on was a guess: the slats' sunlit tops took the outside's cluster or the room's, so their
+  // light reached the room by a passage's share pooled over the whole opening, or whole, as if the slat above cast no
+  // shadow. The Topology method casts such lights shadow rays; the splat has none per receiver. So each such lit
+  // side gets a ray per bin of an octahedral map, drawn anew in its bin every sample. A bin keeps the cluster its ray
+  // enters once it leaves the thin geometry and how far along, or, when it meets a surface first, that surface's
+  // distance; the splat carries the light on from there by the topology (flc_splat.frag), so that over the samples
+  // each bin passes the share of its directions that leave.
+  struct Side {
+    std::size_t vpl;
+    bool back;
+  };
+  const uint64_t sample = uint64_t(context.sample) << 8;
+  std::vector<Side> sides;
+  for (std::size_t i = 0; i < traced_vpls_.size(); ++i) {
+    HostVpl& vpl = traced_vpls_[i];
+    const glm::vec3 y(vpl.position_scale), n(vpl.normal_level);
+    for (const bool back : {false, true}) {
+      glm::vec4& side = back ? vpl.back : vpl.front;
+      side.w = 0.0f;
+      if (side.r + side.g + side.b > 0.0f && !visibility.places(y, back ? -n : n)) sides.push_back({i, back});
+    }
+  }
+  // Beyond kMaxRayMaps (a scene of thin geometry everywhere, or millions of VPLs), a share of the sides drawn by
+  // their VPLs' keys, so that which ones stays the same from run to run, gets maps; the others keep their clusters.
+  if (sides.size() > kMaxRayMaps) {
+    const double keep = double(kMaxRayMaps) / double(sides.size());
+    std::erase_if(sides, [&](const Side& side) {
+      cpu::Rng rng(context.seed, kRayMapShare ^ sample, vpl_key(traced_vpls_[side.vpl]) << 1 | uint64_t(side.back));
+      return !(double(rng.next()) < keep);
+    });
+    sides.resize(std::min(sides.size(), kMaxRayMaps));
+  }
+  for (std::size_t s = 0; s < sides.size(); ++s) {
+    HostVpl& vpl = traced_vpls_[sides[s].vpl];
+    (sides[s].back ? vpl.back : vpl.front).w = std::bit_cast<float>(uint32_t(s + 1));
+  }
+  ray_maps_.assign(sides.size() * 2 * FLC_RAY_MAP_BINS, 0u);
+  for (std::size_t i = 0; i < ray_maps_.size(); i += 2) ray_maps_[i] = topology::kNoNode;
+  if (sides.empty()) return;
+  const float offset = scene.ray_offset();
+  parallel_for(sides.size(), 0, 8, [&](std::size_t s) {
+    const HostVpl& vpl = traced_vpls_[sides[s].vpl];
+    const glm::vec3 n = sides[s].back ? -glm::vec3(vpl.normal_level) : glm::vec3(vpl.normal_level);
+    const glm::vec3 origin = glm::vec3(vpl.position_scale) + offset * n;
+    cpu::Rng rng(context.seed, kRayMaps ^ sample, vpl_key(vpl) << 1 | uint64_t(sides[s].back));
+    uint32_t* map = &ray_maps_[s * 2 * FLC_RAY_MAP_BINS];
+    for (int bin = 0; bin < FLC_RAY_MAP_BINS; ++bin) {
+      // Bins across the horizon get a direction above it when one of a few draws finds one; the splat asks only
+      // for receivers above it.
+      for (int draw = 0; draw < 4; ++draw) {
+        const float u = rng.next(), v = rng.next();
+        const glm::vec3 direction = topology::shared::octahedral_bin_direction(bin, FLC_RAY_MAP_BINS_PER_SIDE, u, v);
+        if (!(glm::dot(direction, n) > 0.0f)) continue;
+        const std::optional<embree::Hit> hit =
+            scene.intersect(origin, direction, 0.0f, std::numeric_limits<float>::max());
+        const float t = hit ? hit->t : std::numeric_limits<float>::max();
+        const TopologyVisibilityPass::Entry entry = visibility.entry_along(origin, direction, t);
+        map[2 * bin] = entry.cluster;
+        map[2 * bin + 1] = std::bit_cast<uint32_t>(entry.cluster != topology::kNoNode ? entry.distance : t);
+        break;
+      }
+    }
+  });
+  if (ray_maps_.size() > ray_maps_capacity_) {
+    ray_maps_capacity_ = std::max(ray_maps_.size(), 2 * ray_maps_capacity_);
+    ray_maps_buffer_ = gl::make_buffer(ray_maps_capacity_ * sizeof(uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  }
+  glNamedBufferSubData(ray_maps_buffer_.id(), 0, GLsizeiptr(ray_maps_.size() * sizeof(uint32_t)), ray_maps_.data());
 }
 
 void FlcPass::resize(int width, int height, const FlcParams& params) {
@@ -300,6 +384,7 @@ void FlcPass::shade(const RenderContext& context, const GBuffer& gbuffer, const 
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplsBinding, vpls_.id());
+  if (ray_maps_buffer_.id() != 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRayMapsBinding, ray_maps_buffer_.id());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, counters_.id());
   glBindVertexArray(empty_vertex_array());
   gbuffer.bind_for_reading();

@@ -59,8 +59,10 @@ class FlcPass {
   void generate(const RenderContext& context, int candidates);
   void add_light(const RenderContext& context);
   // E(t_i) from every light of the sample with the visible fraction of each from a shadow ray, as the ray-traced
-  // direct light has it (cpu/direct_light.h; `lights` made the sample's list), then the candidates kept.
-  void add_traced_light(const RenderContext& context, const cpu::CpuScene& scene, const SceneLights& lights);
+  // direct light has it (cpu/direct_light.h; `lights` made the sample's list), then the candidates kept. With
+  // `visibility` (Indirect Shadows), the lit sides of the kept VPLs that its grid cannot place get ray maps.
+  void add_traced_light(const RenderContext& context, const cpu::CpuScene& scene, const SceneLights& lights,
+                        const TopologyVisibilityPass* visibility);
   // With `visibility` (Indirect Shadows), each VPL lights only what the topology's clusters and gates let it.
   void shade(const RenderContext& context, const GBuffer& gbuffer, const TopologyVisibilityPass* visibility);
 
@@ -81,6 +83,8 @@ class FlcPass {
   };
 
   void run_pipelines(const RenderContext& context);
+  void trace_ray_maps(const RenderContext& context, const cpu::CpuScene& scene,
+                      const TopologyVisibilityPass& visibility);
   void resize(int width, int height, const FlcParams& params);
 
   gl::Program regular_, divergent_, lighting_, splat_, untile_, levels_program_;
@@ -88,6 +92,11 @@ class FlcPass {
   gl::Buffer params_buffer_, counters_, vpls_, divergents_;
   gl::Readback counters_readback_, vpls_readback_;
   std::vector<HostVpl> traced_vpls_;  // add_traced_light's copy of the VPLs
+  // Per VPL side with a ray map (its front.w or back.w holds 1 + the map's index as float bits, 0 without one):
+  // per bin of the octahedral map, the visibility cluster a ray of the bin enters (topology::kNoNode: none).
+  std::vector<uint32_t> ray_maps_;
+  gl::Buffer ray_maps_buffer_;
+  std::size_t ray_maps_capacity_ = 0;  // words
   gl::Texture noise_;
   FlcParams params_{};
   float max_tess_level_ = 64.0f;  // GL_MAX_TESS_GEN_LEVEL, queried once

@@ -11,6 +11,7 @@
 #include <glm/gtc/packing.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
+#include <glm/vector_relational.hpp>
 
 #include "error.h"
 #include "gl/shader.h"
@@ -49,7 +50,9 @@ void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topol
   const topology::GridShape& shape = topology->grid.shape;
   const glm::ivec3 padded = shape.padded();
   // Padded cells, x fastest: the layout of the topology's arrays and of a 3-D texture alike.
-  const std::vector<uint32_t> clusters = topology::voxel_clusters_split_at_gates(*topology);
+  clusters_host_ = topology::voxel_clusters_split_at_gates(*topology);
+  const std::vector<uint32_t>& clusters = clusters_host_;
+  padded_ = padded;
   GLuint texture = 0;
   glCreateTextures(GL_TEXTURE_3D, 1, &texture);
   clusters_ = gl::Texture(texture);
@@ -60,8 +63,8 @@ void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topol
   glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 
   const glm::dvec3 corner = shape.origin - shape.voxel_size;  // padded cell (0, 0, 0)
-  const GridBlock grid{glm::vec4(glm::vec3(corner), float(shape.voxel_size)),
-                       glm::ivec4(padded, int(topology->cluster_count))};
+  origin_voxel_ = glm::vec4(glm::vec3(corner), float(shape.voxel_size));
+  const GridBlock grid{origin_voxel_, glm::ivec4(padded, int(topology->cluster_count))};
   glNamedBufferSubData(grid_.id(), 0, sizeof grid, &grid);
 
   // The gates that need a ray stay out: the GPU has none to confirm a crossing with.
@@ -150,6 +153,31 @@ void TopologyVisibilityPass::execute(const RenderContext& context, const GBuffer
   glUniform4fv(0, 1, &eye[0]);
   draw_fullscreen_triangle();
   gl::check("finding the pixels' visibility clusters");
+}
+
+uint32_t TopologyVisibilityPass::cluster_at(glm::vec3 p) const {
+  const glm::vec3 cell = glm::floor((p - glm::vec3(origin_voxel_)) / origin_voxel_.w);
+  if (!glm::all(glm::greaterThanEqual(cell, glm::vec3(0.0f))) || !glm::all(glm::lessThan(cell, glm::vec3(padded_))))
+    return topology::kNoNode;
+  const glm::ivec3 c(cell);
+  return clusters_host_[(std::size_t(c.z) * std::size_t(padded_.y) + std::size_t(c.y)) * std::size_t(padded_.x) +
+                        std::size_t(c.x)];
+}
+
+TopologyVisibilityPass::Entry TopologyVisibilityPass::entry_along(glm::vec3 origin, glm::vec3 direction,
+                                                                  float reach) const {
+  const float voxel = origin_voxel_.w;
+  if (clusters_host_.empty() || !(voxel > 0.0f)) return {};
+  const float steps = std::min(reach / voxel, 2.0f * float(padded_.x + padded_.y + padded_.z));
+  for (float step = 0.5f; step <= steps; step += 0.5f) {
+    const uint32_t cluster = cluster_at(origin + step * voxel * direction);
+    if (cluster != topology::kNoNode) return {cluster, step * voxel};
+  }
+  return {};
+}
+
+bool TopologyVisibilityPass::places(glm::vec3 p, glm::vec3 n) const {
+  return clusters_host_.empty() || entry_along(p, n, 2.0f * origin_voxel_.w).cluster != topology::kNoNode;
 }
 
 void TopologyVisibilityPass::bind() const {

@@ -14,6 +14,8 @@
 #include "common/parallel.h"
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
+#include "cpu/view_probes.h"
+#include "cpu/vpls.h"
 #include "error.h"
 #include "gl/shader.h"
 #include "passes/flc/flc_math.h"
@@ -43,6 +45,9 @@ constexpr uint64_t kTracedVplLight = 33;  // random streams: the VPLs' shadow ra
 constexpr uint64_t kVplRoulette = 34;     // and which candidates are kept
 constexpr uint64_t kRayMaps = 35;         // the directions of the ray maps' rays
 constexpr uint64_t kRayMapShare = 36;     // which sides get one, beyond kMaxRayMaps
+constexpr uint64_t kViewReach = 37;       // the view's probes a candidate's reach is measured at
+constexpr int kReachProbes = 16;          // of cpu::kProbesPerAxis^2, per candidate
+constexpr double kPowerShare = 0.5;       // of a candidate's importance kept by its power alone (defensive)
 constexpr GLuint kRayMapsBinding = 15;    // flc_splat.frag's FlcRayMaps
 // Ray maps of a sample at most (2 KiB and FLC_RAY_MAP_BINS rays each): the budget's scenes make 80-180.
 constexpr std::size_t kMaxRayMaps = 8192;
@@ -239,28 +244,42 @@ void FlcPass::add_traced_light(const RenderContext& context, const cpu::CpuScene
     vpl.back = glm::vec4(cpu::direct_irradiance(context.lights, y, -n, rays, rng, &world), 0.0f);
   });
   if (candidates_ > 1) {
-    // Per level k, each candidate is kept with probability p = min(1, P / (M_k mean_k P)) of its reflected power P
-    // (rho E, both sides, times its weight) and its weight divided by p: unbiased, about one in M_k kept, where M_k
-    // = M (mu / draw_mu)^k is the number of candidates a paper's light of level k stands for, and the lights go
-    // where the light is (light through blinds lands on a few stripes of a floor).
-    std::array<double, 17> level_power{};
+    // Per level k, each candidate is kept with probability p = min(1, Q / (M_k mean_k P)) and its weight divided by
+    // p: unbiased, about one in M_k kept, where M_k = M (mu / draw_mu)^k is the number of candidates a paper's light
+    // of level k stands for. Q is its reflected power P (rho E, both sides, times its weight), times
+    // u + (1 - u) R / mean_k R, R the light it gives what the camera sees per unit of P (view_reach; u the defensive
+    // share of cpu::kUniformShare): so the lights go where the light is and reaches the view. In the sunlit room the
+    // lawn reflects 97 % of the sun's light and gives the room 8 % of its first bounce: kept by P alone, nearly every
+    // light stood on the lawn, and the stripes the blinds let onto the floor, half of the room's light, had a few
+    // coarse lights or none (a sample's mean varied by half).
+    std::array<double, 17> level_power{}, level_reach{};
     std::array<uint32_t, 17> level_count{};
     const auto power = [](const HostVpl& vpl) {
       const glm::vec3 reflected = glm::vec3(vpl.albedo_random) * (glm::vec3(vpl.front) + glm::vec3(vpl.back));
       return double(reflected.r + reflected.g + reflected.b) * double(vpl.position_scale.w);
     };
     const auto level = [](const HostVpl& vpl) { return std::clamp(int(vpl.normal_level.w), 0, 16); };
-    for (const HostVpl& vpl : traced_vpls_) {
-      level_power[level(vpl)] += power(vpl);
-      ++level_count[level(vpl)];
+    const std::vector<double> reach = view_reach(context, scene);
+    for (std::size_t i = 0; i < traced_vpls_.size(); ++i) {
+      const int k = level(traced_vpls_[i]);
+      level_power[k] += power(traced_vpls_[i]);
+      level_reach[k] += power(traced_vpls_[i]) * reach[i];
+      ++level_count[k];
     }
+    const auto importance = [&](std::size_t i) {
+      const int k = level(traced_vpls_[i]);
+      const double mean_reach = level_reach[k] / level_power[k];
+      if (!(mean_reach > 0.0)) return power(traced_vpls_[i]);
+      return power(traced_vpls_[i]) * (kPowerShare + (1.0 - kPowerShare) * reach[i] / mean_reach);
+    };
     std::array<double, 17> level_candidates{};
     for (std::size_t k = 0; k < level_candidates.size(); ++k)
       level_candidates[k] = double(candidates_) * std::pow(double(params_.mu) / double(params_.draw_mu), double(k));
     std::size_t kept = 0;
-    for (const HostVpl& vpl : traced_vpls_) {
+    for (std::size_t i = 0; i < traced_vpls_.size(); ++i) {
+      const HostVpl vpl = traced_vpls_[i];
       const double budget = level_candidates[level(vpl)] * level_power[level(vpl)] / double(level_count[level(vpl)]);
-      const double p = budget > 0.0 ? std::min(1.0, power(vpl) / budget) : 0.0;
+      const double p = budget > 0.0 ? std::min(1.0, importance(i) / budget) : 0.0;
       if (!(p > 0.0) || !(double(cpu::Rng(context.seed, kVplRoulette ^ sample, vpl_key(vpl)).next()) < p)) continue;
       traced_vpls_[kept] = vpl;
       traced_vpls_[kept++].position_scale.w = float(double(vpl.position_scale.w) / p);
@@ -274,6 +293,48 @@ void FlcPass::add_traced_light(const RenderContext& context, const cpu::CpuScene
   glNamedBufferSubData(vpls_.id(), 0, GLsizeiptr(traced_vpls_.size() * sizeof(HostVpl)), traced_vpls_.data());
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   gl::check("lighting the Forward Light Cuts VPLs with rays");
+}
+
+std::vector<double> FlcPass::view_reach(const RenderContext& context, const cpu::CpuScene& scene) const {
+  // Per candidate, the light it gives kReachProbes of the view's probes drawn at random (cpu::camera_probes), each
+  // through its level's share of Eq. 16 at Eq. 14's distance and behind a shadow ray, per unit of its power: the
+  // light the splat would give those pixels.
+  std::vector<double> reach(traced_vpls_.size(), 0.0);
+  const uint64_t sample = uint64_t(context.sample) << 8;
+  const std::vector<cpu::ViewProbe> probes =
+      cpu::camera_probes(context.view_projection, scene, hash_combine(context.seed, context.sample ^ 0x464c4356u));
+  if (probes.empty()) return reach;
+  const float offset = scene.ray_offset(), epsilon2 = params_.epsilon * params_.epsilon;
+  parallel_for(traced_vpls_.size(), 0, 64, [&](std::size_t i) {
+    const HostVpl& vpl = traced_vpls_[i];
+    const glm::vec3 y(vpl.position_scale), n(vpl.normal_level), albedo(vpl.albedo_random);
+    const int level = std::clamp(int(vpl.normal_level.w), 0, 16);
+    const glm::vec3 front = albedo * glm::vec3(vpl.front), back = albedo * glm::vec3(vpl.back);
+    const double power = double(front.r + front.g + front.b + back.r + back.g + back.b);
+    if (!(power > 0.0)) return;
+    cpu::Rng rng(context.seed, kViewReach ^ sample, vpl_key(vpl));
+    double light = 0.0;
+    for (int j = 0; j < kReachProbes; ++j) {
+      const cpu::ViewProbe& probe = probes[std::min(probes.size() - 1, std::size_t(rng.next() * float(probes.size())))];
+      const glm::vec3 to_probe = probe.position - y;
+      const float d2 = glm::dot(to_probe, to_probe);
+      if (!(d2 > 0.0f)) continue;
+      const glm::vec3 direction = to_probe / std::sqrt(d2);
+      const float cos_light = glm::dot(n, direction), cos_probe = -glm::dot(probe.normal, direction);
+      const glm::vec3 side = cos_light > 0.0f ? front : back;
+      if (!(cos_probe > 0.0f) || !(side.r + side.g + side.b > 0.0f)) continue;
+      const float share =
+          flc::flc_partition(std::sqrt(d2) / std::abs(cos_light), level, params_.levels, params_.d0, params_.mu);
+      if (!(share > 0.0f)) continue;
+      const glm::vec3 given = side * probe.albedo * (std::abs(cos_light) * cos_probe * share / std::max(d2, epsilon2));
+      if (!(given.r + given.g + given.b > 0.0f)) continue;
+      const glm::vec3 lift = (cos_light > 0.0f ? n : -n) * offset;
+      if (scene.clear_between(y + lift, probe.position + probe.normal * offset))
+        light += double(given.r + given.g + given.b);
+    }
+    reach[i] = light / power;
+  });
+  return reach;
 }
 
 void FlcPass::trace_ray_maps(const RenderContext& context, const cpu::CpuScene& scene,

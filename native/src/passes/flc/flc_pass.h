@@ -83,6 +83,7 @@ class FlcPass {
   };
 
   void run_pipelines(const RenderContext& context);
+  std::vector<double> view_reach(const RenderContext& context, const cpu::CpuScene& scene) const;
   void trace_ray_maps(const RenderContext& context, const cpu::CpuScene& scene,
                       const TopologyVisibilityPass& visibility);
   void resize(int width, int height, const FlcParams& params);

@@ -10,7 +10,6 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "common/parallel.h"
-#include "cpu/camera_ray.h"
 #include "cpu/vpls.h"
 #include "error.h"
 #include "gl/shader.h"
@@ -23,10 +22,6 @@ namespace bounce {
 
 struct SsvpPass::GpuVpl {
   glm::vec4 position_cluster, normal, flux;
-};
-
-struct SsvpPass::Probe {
-  glm::vec3 position, normal, albedo;
 };
 
 namespace {
@@ -49,7 +44,7 @@ constexpr int kParaboloidBytesPerTexel = 16 + 8 + 8 + 4;
 constexpr float kMinSecondCosine = 1e-2f;  // as MIN_COSINE in ssvp_propagate.comp
 
 using GpuVpl = SsvpPass::GpuVpl;
-using Probe = SsvpPass::Probe;
+using Probe = cpu::ViewProbe;
 struct GpuCluster {
   glm::vec4 position_first, normal_count, tangent, bitangent;
 };
@@ -61,27 +56,6 @@ std::vector<GpuVpl> read_lit_vpls(gl::Readback& readback, GLuint buffer, std::si
   for (const GpuVpl& v : read)
     if (v.flux.w != 0.0f && v.flux.r + v.flux.g + v.flux.b > 0.0f) lit.push_back(v);
   return lit;
-}
-
-// VPL Importance's view samples: the surface a camera ray meets through one jittered point in each cell of a
-// grid over the whole view (all the tiles of a tiled frame share them), as the rasterizer sees it (cut-outs let
-// the ray through).
-std::vector<Probe> camera_probes(const RenderContext& frame, const cpu::CpuScene& scene, uint32_t seed) {
-  std::vector<Probe> probes;
-  const glm::dmat4 clip_to_world = glm::inverse(glm::dmat4(frame.view_projection));
-  const int cells = cpu::kProbesPerAxis;
-  for (int cell = 0; cell < cells * cells; ++cell) {
-    const uint32_t key = hash_combine(seed, static_cast<uint32_t>(cell));
-    const double x = (cell % cells + hash_to_unit(key)) / cells,
-                 y = (cell / cells + hash_to_unit(key ^ 0x9e37u)) / cells;
-    const cpu::CameraRay ray = cpu::camera_ray(clip_to_world, 2.0 * x - 1.0, 2.0 * y - 1.0);
-    if (!std::isfinite(ray.direction.x) || !std::isfinite(ray.origin.x)) continue;
-    const std::optional<embree::Hit> hit = scene.intersect(ray.origin, ray.direction, 0.0f, ray.tmax);
-    if (!hit) continue;
-    const cpu::Surface surface = scene.surface(*hit, ray.direction);
-    probes.push_back({surface.position, surface.shading_normal, surface.albedo});
-  }
-  return probes;
 }
 
 // The seed of a sample's view samples and of its draws by importance.
@@ -389,7 +363,7 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   std::vector<Probe> probes;
   if (traced) {
     StageScope scope(context.timer, Stage::SsvpImportance);
-    probes = camera_probes(context, *traced, importance_key(context));
+    probes = cpu::camera_probes(context.view_projection, *traced, importance_key(context));
   }
   std::vector<GpuVpl> second = cluster(context, traced, probes);  // traced with VPL Importance, else propagated below
   if (clusters_.empty()) {

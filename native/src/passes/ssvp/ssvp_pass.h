@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "cpu/cpu_scene.h"
+#include "cpu/view_probes.h"
 #include "gl/objects.h"
 #include "passes/blur/geometry_blur.h"
 #include "passes/gbuffer/gbuffer_pass.h"
@@ -64,7 +65,6 @@ struct SsvpParams {
 class SsvpPass {
  public:
   struct GpuVpl;  // std430 mirror of shaders/ssvp/ssvp_common.glsl `Vpl` (ssvp_pass.cpp)
-  struct Probe;   // a view sample of VPL Importance: the surface a camera ray meets (ssvp_pass.cpp)
 
   SsvpPass();
   // Once per sample, for the whole view (`context` covers every tile): the light's RSM, the VPLs, their
@@ -95,13 +95,14 @@ class SsvpPass {
   void render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light);
   void sample_first_bounce(const RenderContext& context, const BounceLight& light);
   // Returns the second-bounce VPLs when it traces them (VPL Importance), else none.
-  std::vector<GpuVpl> cluster(const RenderContext& context, const cpu::CpuScene* traced, std::span<const Probe> probes);
+  std::vector<GpuVpl> cluster(const RenderContext& context, const cpu::CpuScene* traced,
+                              std::span<const cpu::ViewProbe> probes);
   void allocate_paraboloids(const RenderContext& context, int layers);
   void render_paraboloids(const RenderContext& context, int begin, int end);  // layers [begin, end)
   void propagate(const RenderContext& context);
   std::vector<GpuVpl> read_propagated();
   void cluster_second_bounce(const RenderContext& context, std::vector<GpuVpl> vpls, const cpu::CpuScene* traced,
-                             std::span<const Probe> probes);
+                             std::span<const cpu::ViewProbe> probes);
   void shade_vpls(const RenderContext& context, const GBuffer& camera);
   void draw_debug(const RenderContext& context, const GBuffer& camera);
 

@@ -41,14 +41,15 @@ constexpr std::size_t kDivergentBytes = 4 * 4 * sizeof(float);
 constexpr uint32_t kInitialVplCapacity = 1u << 16;
 constexpr uint32_t kInitialDivergentCapacity = 1u << 12;
 constexpr int kMaxRegrowths = 8;
-constexpr uint64_t kTracedVplLight = 33;  // random streams: the VPLs' shadow rays (TracedDirectPass: 31, 32)
-constexpr uint64_t kVplRoulette = 34;     // and which candidates are kept
-constexpr uint64_t kRayMaps = 35;         // the directions of the ray maps' rays
-constexpr uint64_t kRayMapShare = 36;     // which sides get one, beyond kMaxRayMaps
-constexpr uint64_t kViewReach = 37;       // the view's probes a candidate's reach is measured at
-constexpr int kReachProbes = 16;          // of cpu::kProbesPerAxis^2, per candidate
-constexpr double kPowerShare = 0.5;       // of a candidate's importance kept by its power alone (defensive)
-constexpr GLuint kRayMapsBinding = 15;    // flc_splat.frag's FlcRayMaps
+constexpr uint64_t kTracedVplLight = 33;     // random streams: the VPLs' shadow rays (TracedDirectPass: 31, 32)
+constexpr uint64_t kVplRoulette = 34;        // and which candidates are kept
+constexpr uint64_t kRayMaps = 35;            // the directions of the ray maps' rays
+constexpr uint64_t kRayMapShare = 36;        // which sides get one, beyond kMaxRayMaps
+constexpr uint64_t kViewReach = 37;          // the view's probes a candidate's reach is measured at
+constexpr int kReachProbes = 16;             // of cpu::kProbesPerAxis^2, per candidate
+constexpr std::size_t kReachRays = 1 << 21;  // rays a sample at most, but one probe a candidate at least
+constexpr double kPowerShare = 0.5;          // of a candidate's importance kept by its power alone (defensive)
+constexpr GLuint kRayMapsBinding = 15;       // flc_splat.frag's FlcRayMaps
 // Ray maps of a sample at most (2 KiB and FLC_RAY_MAP_BINS rays each): the budget's scenes make 80-180.
 constexpr std::size_t kMaxRayMaps = 8192;
 
@@ -298,13 +299,16 @@ void FlcPass::add_traced_light(const RenderContext& context, const cpu::CpuScene
 std::vector<double> FlcPass::view_reach(const RenderContext& context, const cpu::CpuScene& scene) const {
   // Per candidate, the light it gives kReachProbes of the view's probes drawn at random (cpu::camera_probes), each
   // through its level's share of Eq. 16 at Eq. 14's distance and behind a shadow ray, per unit of its power: the
-  // light the splat would give those pixels.
+  // light the splat would give those pixels. Millions of candidates (the least Near Distance) take fewer probes
+  // each, so that the rays stay within kReachRays.
   std::vector<double> reach(traced_vpls_.size(), 0.0);
   const uint64_t sample = uint64_t(context.sample) << 8;
   const std::vector<cpu::ViewProbe> probes =
       cpu::camera_probes(context.view_projection, scene, hash_combine(context.seed, context.sample ^ 0x464c4356u));
   if (probes.empty()) return reach;
   const float offset = scene.ray_offset(), epsilon2 = params_.epsilon * params_.epsilon;
+  const int probes_per_candidate =
+      int(std::clamp<std::size_t>(kReachRays / std::max<std::size_t>(traced_vpls_.size(), 1), 1, kReachProbes));
   parallel_for(traced_vpls_.size(), 0, 64, [&](std::size_t i) {
     const HostVpl& vpl = traced_vpls_[i];
     const glm::vec3 y(vpl.position_scale), n(vpl.normal_level), albedo(vpl.albedo_random);
@@ -314,7 +318,7 @@ std::vector<double> FlcPass::view_reach(const RenderContext& context, const cpu:
     if (!(power > 0.0)) return;
     cpu::Rng rng(context.seed, kViewReach ^ sample, vpl_key(vpl));
     double light = 0.0;
-    for (int j = 0; j < kReachProbes; ++j) {
+    for (int j = 0; j < probes_per_candidate; ++j) {
       const cpu::ViewProbe& probe = probes[std::min(probes.size() - 1, std::size_t(rng.next() * float(probes.size())))];
       const glm::vec3 to_probe = probe.position - y;
       const float d2 = glm::dot(to_probe, to_probe);

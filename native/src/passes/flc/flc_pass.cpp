@@ -248,8 +248,8 @@ void FlcPass::add_traced_light(const RenderContext& context, const cpu::CpuScene
     // Per level k, each candidate is kept with probability p = min(1, Q / (M_k mean_k P)) and its weight divided by
     // p: unbiased, about one in M_k kept, where M_k = M (mu / draw_mu)^k is the number of candidates a paper's light
     // of level k stands for. Q is its reflected power P (rho E, both sides, times its weight), times
-    // u + (1 - u) R / mean_k R, R the light it gives what the camera sees per unit of P (view_reach; u the defensive
-    // share of cpu::kUniformShare): so the lights go where the light is and reaches the view. In the sunlit room the
+    // u + (1 - u) R / mean_k R, R the light it gives what the camera sees per unit of P (view_reach; u = kPowerShare,
+    // defensive): so the lights go where the light is and reaches the view. In the sunlit room the
     // lawn reflects 97 % of the sun's light and gives the room 8 % of its first bounce: kept by P alone, nearly every
     // light stood on the lawn, and the stripes the blinds let onto the floor, half of the room's light, had a few
     // coarse lights or none (a sample's mean varied by half).
@@ -370,6 +370,8 @@ void FlcPass::trace_ray_maps(const RenderContext& context, const cpu::CpuScene& 
   // Beyond kMaxRayMaps (a scene of thin geometry everywhere, or millions of VPLs), a share of the sides drawn by
   // their VPLs' keys, so that which ones stays the same from run to run, gets maps; the others keep their clusters.
   if (sides.size() > kMaxRayMaps) {
+    const auto key = [&](const Side& side) { return std::pair{vpl_key(traced_vpls_[side.vpl]), side.back}; };
+    std::sort(sides.begin(), sides.end(), [&](const Side& a, const Side& b) { return key(a) < key(b); });
     const double keep = double(kMaxRayMaps) / double(sides.size());
     std::erase_if(sides, [&](const Side& side) {
       cpu::Rng rng(context.seed, kRayMapShare ^ sample, vpl_key(traced_vpls_[side.vpl]) << 1 | uint64_t(side.back));

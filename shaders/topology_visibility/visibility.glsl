@@ -168,12 +168,11 @@ bool topology_voxels_clear(vec3 p, vec3 n_p, vec3 x, vec3 n_x) {
 // inside its rectangle, found by a breadth-first walk through at most TOPOLOGY_WALK_CLUSTERS clusters, what the
 // surfaces between x and the last gate leave (topology_unoccluded), and none when it does not. A chain through a
 // second opening holds only where the voxels between p and x are clear, and then passes all of the light, as a
-// shadow ray's word does on the CPU.
+// shadow ray's word does on the CPU. A chain through first openings may end in a passage into `to` (the ground
+// outside a window, in clusters gated to the one its blinds' passage starts from), which passes its share.
 float topology_visibility(uint from, vec3 p, vec3 n_p, uint to, vec3 x, vec3 n_x, float light_reach) {
   if (from == TOPOLOGY_NO_CLUSTER) return 0.0;
   if (to == TOPOLOGY_NO_CLUSTER || from == to) return topology_unoccluded(p, x, light_reach);
-  float passage = topology_passage(from, p, to, x);
-  if (passage > 0.0) return passage;
   uint walk[TOPOLOGY_WALK_CLUSTERS];
   bool via_second[TOPOLOGY_WALK_CLUSTERS];
   walk[0] = from;
@@ -181,6 +180,10 @@ float topology_visibility(uint from, vec3 p, vec3 n_p, uint to, vec3 x, vec3 n_x
   uint walked = 1u;
   for (uint head = 0u; head < walked; ++head) {
     uint cluster = walk[head];
+    if (!via_second[head]) {
+      float passage = topology_passage(cluster, p, to, x);
+      if (passage > 0.0) return passage;
+    }
     uint first = topology_cluster_gates[2u * cluster], count = topology_cluster_gates[2u * cluster + 1u];
     for (uint i = first; i < first + count; ++i) {
       TopologyGate gate = topology_gates[topology_cluster_gates[i]];

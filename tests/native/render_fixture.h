@@ -112,9 +112,15 @@ class RenderFixture : public ::testing::Test {
   }
   // One instance per key at the identity, instance i with a grey material of albedo albedos[i].
   void set_grey_instances(const std::vector<uint64_t>& keys, const std::vector<float>& albedos) {
-    std::vector<BounceMaterial> materials(albedos.size());
-    for (std::size_t i = 0; i < albedos.size(); ++i) {
-      materials[i].base_color[0] = materials[i].base_color[1] = materials[i].base_color[2] = albedos[i];
+    std::vector<glm::vec3> colours;
+    for (const float albedo : albedos) colours.emplace_back(albedo);
+    set_coloured_instances(keys, colours);
+  }
+  // One instance per key at the identity, instance i with a material of base colour colours[i].
+  void set_coloured_instances(const std::vector<uint64_t>& keys, const std::vector<glm::vec3>& colours) {
+    std::vector<BounceMaterial> materials(colours.size());
+    for (std::size_t i = 0; i < colours.size(); ++i) {
+      for (int c = 0; c < 3; ++c) materials[i].base_color[c] = colours[i][c];
       materials[i].alpha = 1.0f;
       materials[i].alpha_threshold = 0.5f;
     }
@@ -192,12 +198,13 @@ class RenderFixture : public ::testing::Test {
     set_camera(view, glm::perspective(glm::radians(60.0f), 1.0f, 0.05f, 10.0f), 48, 48);
     settings_.filter_width = 0.0f;
   }
-  static double mean_red(const Image& image) {
+  static double mean_channel(const Image& image, int channel) {
     double sum = 0.0;
     for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x) sum += image.at(x, y)[0];
+      for (int x = 0; x < image.width; ++x) sum += image.at(x, y)[channel];
     return sum / (image.width * image.height);
   }
+  static double mean_red(const Image& image) { return mean_channel(image, 0); }
 
   // Renders and returns one AOV; fails the test on any render error.
   Image render(int aov = BOUNCE_AOV_COMBINED) {

@@ -31,11 +31,11 @@ struct Occluders {
   // Per padded grid cell: 0, or 1 + the cell's slot (cells that hold surface).
   std::vector<uint32_t> slot;
   // Per slot and bin, of two rays stratified across the bin, the surface the nearer meets and the share that meet
-  // surfaces about as near: a light behind that surface's plane is hidden from that share of the bin.
+  // a surface not behind its plane: a light behind that plane is hidden from that share of the bin.
   struct Hit {
     float distance = std::numeric_limits<float>::infinity();  // infinity: no surface
     glm::vec3 normal{0.0f};                                   // unit, facing the ray's origin
-    float share = 0.0f;  // of the bin's rays that meet it or a surface about as near
+    float share = 0.0f;  // of the bin's rays that meet it or a surface in front of its plane
     float plane = 0.0f;  // dot(normal, its point - the cell's surface point): the plane, seen from the cell
   };
   std::vector<Hit> hits;

@@ -87,7 +87,7 @@ Occluders estimate_occluders(const Topology& topology, std::span<const glm::vec3
       // (behind_occluder's slack): a light behind the plane is hidden along those rays only. A ray that meets a
       // surface behind the plane passes what lies between: from a ceiling beside a window, the sill's plane held the
       // whole floor below it, and an empty room's ceiling lost 2.0 % of its floor's light to bins whose other ray met
-      // the floor within the distance rule this replaces, 1.25 times the nearest plus two voxels (0.7 % now:
+      // the floor within the distance rule this replaces, 1.25 times the nearest plus two voxels (1.3 % now:
       // TopologyOccluders.AnEmptyRoomsCeilingSeesItsFloor).
       const std::size_t nearest =
           std::size_t(std::min_element(hits.begin(), hits.end(),

@@ -89,16 +89,14 @@ Occluders estimate_occluders(const Topology& topology, std::span<const glm::vec3
       // whole floor below it, and an empty room's ceiling lost 2.0 % of its floor's light to bins whose other ray met
       // the floor within the distance rule this replaces, 1.25 times the nearest plus two voxels (1.3 % now:
       // TopologyOccluders.AnEmptyRoomsCeilingSeesItsFloor).
-      const std::size_t nearest =
-          std::size_t(std::min_element(hits.begin(), hits.end(),
-                                       [](const auto& a, const auto& b) { return a.distance < b.distance; }) -
-                      hits.begin());
       Occluders::Hit& bin_hit = occluders.hits[i * kPassageBins + bin];
-      bin_hit = hits[nearest];
+      bin_hit = *std::min_element(hits.begin(), hits.end(),
+                                  [](const auto& a, const auto& b) { return a.distance < b.distance; });
       int in_front = 0;
-      for (int k = 0; k < kRaysPerBin; ++k)
-        if (std::isfinite(hits[std::size_t(k)].distance) &&
-            glm::dot(bin_hit.normal, points[std::size_t(k)]) >= bin_hit.plane - 2.0f * voxel)
+      for (std::size_t k = 0; k < kRaysPerBin; ++k)
+        if (std::isfinite(hits[k].distance) &&
+            !shared::behind_occluder(bin_hit.normal, bin_hit.plane, points[k], hits[k].distance,
+                                     TOPOLOGY_WITHIN_CLUSTER, voxel))
           ++in_front;
       bin_hit.share = float(in_front) / float(kRaysPerBin);
     }

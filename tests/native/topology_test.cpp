@@ -15,6 +15,7 @@
 #include "embree/embree_device.h"
 #include "topology/distance_transform.h"
 #include "topology/local_topology.h"
+#include "topology/shared_glsl.h"
 #include "topology/topology.h"
 #include "topology/voxelize.h"
 #include "topology_scenes.h"
@@ -503,7 +504,6 @@ TEST(TopologyPassages, RectanglesStayWithinTheirOpening) {
 TEST(TopologyOccluders, AnEmptyRoomsCeilingSeesItsFloor) {
   const Topology t = build_with_embree(test::room_with_deep_blinds());
   const float voxel = float(t.grid.shape.voxel_size);
-  constexpr float kWithinCluster = 3.0e38f;  // TOPOLOGY_WITHIN_CLUSTER: the lights are in the receivers' cluster
   double kept = 0.0, all = 0.0;
   int pairs = 0, hidden_whole = 0;
   for (int iy = 0; iy < 45; ++iy)
@@ -513,7 +513,7 @@ TEST(TopologyOccluders, AnEmptyRoomsCeilingSeesItsFloor) {
       for (int ly = 0; ly < 11; ++ly)
         for (int lx = 0; lx < 10; ++lx) {
           const glm::vec3 offset = glm::vec3(1.6f + 0.2f * float(lx), 0.3f + 0.2f * float(ly), 1e-3f) - x;
-          const float share = unoccluded(hits, offset, kWithinCluster, voxel);
+          const float share = unoccluded(hits, offset, TOPOLOGY_WITHIN_CLUSTER, voxel);
           kept += share / glm::dot(offset, offset);
           all += 1.0 / glm::dot(offset, offset);
           ++pairs;

@@ -13,13 +13,28 @@ namespace bounce {
 
 namespace shared_glsl {
 using glm::atan;
+using glm::cross;
+using glm::dot;
 using glm::length;
 using glm::vec2;
 using glm::vec3;
 #define EQUIRECT_INLINE inline
 #include "common/equirect_shared.glsl"
 #undef EQUIRECT_INLINE
+#define EMITTERS_INLINE inline
+#include "common/emitter_occluders_shared.glsl"
+#undef EMITTERS_INLINE
 }  // namespace shared_glsl
+
+bool emitter_between(std::span<const EmitterOccluder> emitters, glm::vec3 y, glm::vec3 x, float margin) {
+  const glm::vec3 d = x - y;
+  const float length_d = glm::length(d);
+  if (!(length_d > 2.0f * margin)) return false;
+  const float t_min = margin / length_d, t_max = 1.0f - t_min;
+  return std::any_of(emitters.begin(), emitters.end(), [&](const EmitterOccluder& e) {
+    return shared_glsl::triangle_crosses_segment(glm::vec3(e.a), glm::vec3(e.b), glm::vec3(e.c), y, d, t_min, t_max);
+  });
+}
 
 namespace {
 

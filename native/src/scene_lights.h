@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -46,6 +47,10 @@ class WorldRadiance {
 struct EmitterOccluder {
   glm::vec4 a, b, c;
 };
+
+// Whether one of `emitters` crosses the segment from y to x further than `margin` from both ends: the rule of
+// emitter_occluders.glsl for the CPU's VPLs (the Topology method's clusters and gates).
+bool emitter_between(std::span<const EmitterOccluder> emitters, glm::vec3 y, glm::vec3 x, float margin);
 
 class SceneLights {
  public:

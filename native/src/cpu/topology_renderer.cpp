@@ -29,6 +29,7 @@ using topology::kNoNode;
 
 constexpr int kDepthSlices = 16;           // clustered shading's exponential depth slices (Olsson et al. 2012)
 constexpr float kBackgroundDepth = 1e10f;  // Blender's Depth pass value where nothing is hit
+constexpr float kEmitterMargin = 1e-4f;    // of the scene's radius: the surfaces a segment ends on (FLC's margin)
 enum Purpose : uint64_t { kDirectLight = 21, kVplResampling = 22, kVplSample = 23, kNearField = 24 };
 
 // ---- View samples -----------------------------------------------------------------------------------------
@@ -138,6 +139,16 @@ float occluder_share(Test test, Reach reach, float entry, std::span<const topolo
   return 1.0f;
 }
 
+// Whether an emitter drawn this sample stands between a VPL at p and a receiver at x where no shadow ray decided:
+// the clusters' rule for emitters (shaders/common/emitter_occluders.glsl). A panel hanging a voxel below a ceiling
+// shares the room's cluster and lies within the occluders' slack of the ceiling above it, whose VPLs lit the room
+// through it: the Cornell box lit by its panel had 1.10 of Cycles' first bounce (shadow rays: 1.00).
+bool emitter_hides(std::span<const EmitterOccluder> emitters, Test test, Reach reach, glm::vec3 p, glm::vec3 x,
+                   float margin) {
+  if (emitters.empty() || test == Test::kShadowRay || reach == Reach::kIfRayClear) return false;
+  return emitter_between(emitters, p, x, margin);
+}
+
 // Whether a bounding sphere may hold points of that cone: the sphere must reach beyond the gate's plane and
 // within the right circular cone from p enclosing the gate's bounding sphere.
 bool sphere_meets_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 centre, float radius) {
@@ -166,7 +177,32 @@ struct Assignment {
   uint32_t vpl;
   Test test;
   uint32_t first_gate = 0, first_gates = 0;  // kGates: the range of the group's gate list its walk may start by
+  bool near_emitter = false;  // an emitter's bounding sphere meets the segments from the VPL to the group
 };
+
+// An emitter drawn this sample, bounded by a sphere.
+struct EmitterSphere {
+  glm::vec3 centre;
+  float radius;
+};
+std::vector<EmitterSphere> emitter_spheres(std::span<const EmitterOccluder> emitters) {
+  std::vector<EmitterSphere> spheres;
+  for (const EmitterOccluder& e : emitters) {
+    const glm::vec3 a(e.a), b(e.b), c(e.c), centre = (a + b + c) / 3.0f;
+    spheres.push_back({centre, std::max({glm::length(a - centre), glm::length(b - centre), glm::length(c - centre)})});
+  }
+  return spheres;
+}
+// Whether an emitter may cross a segment from p to a point of the sphere (centre, radius): the segments all lie
+// within `radius` of the segment from p to the centre.
+bool near_emitter(std::span<const EmitterSphere> emitters, glm::vec3 p, glm::vec3 centre, float radius) {
+  const glm::vec3 d = centre - p;
+  const float length2 = glm::dot(d, d);
+  return std::any_of(emitters.begin(), emitters.end(), [&](const EmitterSphere& e) {
+    const float t = length2 > 0.0f ? std::clamp(glm::dot(e.centre - p, d) / length2, 0.0f, 1.0f) : 0.0f;
+    return glm::length(e.centre - (p + t * d)) <= radius + e.radius;
+  });
+}
 struct GroupLights {
   std::vector<Assignment> lights;
   std::vector<uint32_t> gates;  // the assignments' first gates
@@ -284,8 +320,9 @@ uint32_t TopologyRenderer::vpl_cluster(const Vpl& vpl) const {
   return topologies_.latest()->cluster_at(vpl.position, vpl.normal, topology::Topology::Side::Front, reachable);
 }
 
-void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const BounceSettings& settings, uint64_t seed,
-                                    std::span<const Probe> probes, const ClusterGraph& graph) {
+void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, std::span<const EmitterOccluder> emitters,
+                                    const BounceSettings& settings, uint64_t seed, std::span<const Probe> probes,
+                                    const ClusterGraph& graph) {
   // Candidates: kCandidatesPerVpl times the VPLs wanted, traced from the lights (a sun's over a disk the size of
   // the scene, so most land where the camera sees nothing: on a roof, outside a window).
   VplOptions options;
@@ -306,6 +343,7 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
   const auto voxel = float(topo.grid.shape.voxel_size);
   const float clamp = settings.topology_distance_clamp * scene_.radius();
   const float offset = scene_.ray_offset();
+  const float emitter_margin = kEmitterMargin * scene_.radius();
   std::vector<float> importance(candidates.size(), 0.0f);
   std::vector<uint8_t> lit_by_ray(candidates.size(), 0);
   parallel_for(candidates.size(), 0, 64, [&](std::size_t i) {
@@ -328,6 +366,8 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const B
         if (!clear()) continue;
         lit_by_ray[i] = 1;
       }
+      if (clusters_and_gates && emitter_hides(emitters, test, reach, vpl.position, probe.position, emitter_margin))
+        continue;
       const float share = clusters_and_gates ? occluder_share(test, reach, entry, probe.occluder_hits,
                                                               vpl.position - probe.position, voxel)
                                              : 1.0f;
@@ -375,6 +415,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   const float radius = scene_.radius();
   const float offset = scene_.ray_offset();
   const float clamp = settings.topology_distance_clamp * radius;
+  const float emitter_margin = kEmitterMargin * radius;
   const ShadowRays direct_rays{scene_.bvh(), offset, 1, scene_.opaque(), settings.shadow_softness};
   const BounceWorld& world = scene.world();
   const WorldRadiance world_radiance(world, scene.texture_data(world.environment_texture));
@@ -433,6 +474,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   for (int s = 0; s < settings.samples; ++s) {
     if (callbacks.cancelled()) return false;
     const std::vector<BounceLight>& lights = scene_lights.sample(scene, settings, static_cast<uint32_t>(s), seed);
+    const std::span<const EmitterOccluder> emitters = scene_lights.emitter_occluders();
     // The lamps keep their indices from sample to sample (the world's directions and the emitters do not).
     if (s == 0) guides_.assign(scene_lights.lamp_count(), EmissionGuide{});
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
@@ -474,7 +516,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
             probes.push_back({v.surface.position, v.surface.shading_normal, v.surface.albedo, v.cluster,
                               topology::cell_hits(topo.occluders, topo.grid.shape, v.surface.position)});
         }
-      prepare_vpls(lights, settings, mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
+      prepare_vpls(lights, emitters, settings, mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
     }
     const WorldStrategies world_strategies{scene_lights, settings.world_lights};
     {
@@ -524,6 +566,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         hi[entry->second] = glm::max(hi[entry->second], v.surface.position);
       }
       assigned.resize(lo.size());
+      const std::vector<EmitterSphere> spheres = emitter_spheres(emitters);
       parallel_for(lo.size(), 0, 4, [&](std::size_t g) {
         const glm::vec3 centre = 0.5f * (lo[g] + hi[g]);
         const float sphere = 0.5f * glm::length(hi[g] - lo[g]) + offset;
@@ -534,8 +577,9 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
           // no rays at shading.
           if (test == Test::kShadowRay && cluster != kNoNode && !vpl_lit_by_ray_[l]) continue;
           GroupLights& group = assigned[g];
+          const bool emitter = near_emitter(spheres, vpls_[l].position, centre, sphere);
           if (test != Test::kGates) {
-            group.lights.push_back({uint32_t(l), test});
+            group.lights.push_back({uint32_t(l), test, 0, 0, emitter});
             continue;
           }
           // The first gate of a walk must open toward the group.
@@ -544,7 +588,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
             if (sphere_meets_gate_cone(vpls_[l].position, topo.gates[gate], centre, sphere))
               group.gates.push_back(gate);
           if (group.gates.size() > first)
-            group.lights.push_back({uint32_t(l), test, first, uint32_t(group.gates.size()) - first});
+            group.lights.push_back({uint32_t(l), test, first, uint32_t(group.gates.size()) - first, emitter});
         }
       });
     }
@@ -581,6 +625,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
                                       : Reach::kYes;
               if (reach == Reach::kNo) continue;
               if ((a.test == Test::kShadowRay || reach == Reach::kIfRayClear) && blocked(vpl)) continue;
+              if (a.near_emitter && emitter_hides(emitters, a.test, reach, vpl.position, x, emitter_margin)) continue;
               add(vpl, occluder_share(a.test, reach, entry, occluder_hits, vpl.position - x, voxel) * e);
             }
           } else {

@@ -42,8 +42,9 @@ class TopologyRenderer {
     uint32_t cluster;
     std::span<const topology::Occluders::Hit> occluder_hits;  // of its cell (topology::cell_hits)
   };
-  void prepare_vpls(std::span<const BounceLight> lights, const BounceSettings& settings, uint64_t seed,
-                    std::span<const Probe> probes, const ClusterGraph& graph);
+  void prepare_vpls(std::span<const BounceLight> lights, std::span<const EmitterOccluder> emitters,
+                    const BounceSettings& settings, uint64_t seed, std::span<const Probe> probes,
+                    const ClusterGraph& graph);
   uint32_t vpl_cluster(const Vpl& vpl) const;
 
   CpuScene& scene_;                  // the renderer's, shared with the ray-traced direct light

@@ -264,7 +264,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     }
     if (ssvp) {
       if (callbacks.cancelled()) return false;
-      ssvp_.generate(frame_context, gbuffer_, plan.vpl_importance ? &cpu_scene_ : nullptr);
+      ssvp_.generate(frame_context, gbuffer_, plan.vpl_importance ? &cpu_scene_ : nullptr, scene_lights_.lamp_count());
       vpl_count = ssvp_.vpl_count();
       cluster_count = ssvp_.cluster_count();
       const bool lamp = ssvp_.main_light() >= 0 && std::size_t(ssvp_.main_light()) < scene_lights_.lamp_count();

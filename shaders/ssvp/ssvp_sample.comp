@@ -43,7 +43,7 @@ void main() {
       float d2 = dot(to_light, to_light);
       area = solid_angle * d2 / max(dot(ng, to_light * inversesqrt(max(d2, 1e-30))), MIN_COSINE);
     }
-    vpl.position_cluster = vec4(x, 0.0);
+    vpl.position_cluster = vec4(x, float(k));  // w: its point, until it joins a cluster (SsvpPass::cluster)
     vpl.normal = vec4(n, area * ssvp.texels_per_vpl);
     vpl.flux = vec4(albedo.rgb * irradiance * area * ssvp.texels_per_vpl, 1.0);
     if (any(isnan(vpl.flux)) || any(isinf(vpl.flux))) vpl.flux = vec4(0.0);

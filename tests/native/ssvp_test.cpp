@@ -542,7 +542,9 @@ TEST_F(Ssvp, VplImportanceFindsTheRoomASunShinesInto) {
 // sunlit ground. Much of its second bounce reaches the view through surfaces that the first-bounce clusters'
 // eyes do not see, or comes from VPLs that VPL Importance leaves out (the slats' tops, the ground outside), which
 // the paper's propagation (Sec. II-B) misses: 0.68 of Cycles' on the budget's sunlit interior. Traced, and each
-// shadowed by its own cluster's map, at the default settings: within 15 % of ray-traced VPLs (1.05 here).
+// shadowed by its own cluster's map, at the default settings: within 15 % of ray-traced VPLs (1.07 here). 64
+// samples: at 16 the second bounce moves with the seed from 0.64 to 1.38 of the rays' (seeds 0-2, with and
+// without guided candidates); at 256 both give 0.90-1.03.
 TEST_F(Ssvp, SecondBounceOfARoomLitThroughBlinds) {
   add_soup(1, room_with_window(true).vertices);
   set_instances({1}, {glm::mat4(1.0f)});
@@ -553,6 +555,7 @@ TEST_F(Ssvp, SecondBounceOfARoomLitThroughBlinds) {
   settings_.samples = 16;
   settings_.bounces = 2;
   const double rays = ray_traced_vpls(8192, BOUNCE_AOV_SECOND_BOUNCE);
+  settings_.samples = 64;
   render(BOUNCE_AOV_INDIRECT);
   const double ssvp_second = mean_red(read(BOUNCE_AOV_SECOND_BOUNCE));
   std::printf("room lit through blinds, second bounce: SSVP %.5f, ray-traced VPLs %.5f (ratio %.3f)\n", ssvp_second,

@@ -71,8 +71,8 @@ uint32_t importance_key(const RenderContext& context) {
 // would carry m / (share x count) times a VPL's flux (80 times), and clustered visibility, which tests it from
 // its cluster's eye, lets it through walls: a sunlit room came out 2-3 times too bright. Left out, only light
 // that no probe sees is lost; the probes move every sample.
-std::vector<GpuVpl> draw_by_importance(std::span<const GpuVpl> candidates, int wanted, std::span<const Probe> probes,
-                                       const cpu::CpuScene& scene, float clamp, float u) {
+std::vector<float> candidate_importance(std::span<const GpuVpl> candidates, std::span<const Probe> probes,
+                                        const cpu::CpuScene& scene, float clamp) {
   const float offset = scene.ray_offset();
   std::vector<float> importance(candidates.size(), 0.0f);
   parallel_for(candidates.size(), 0, 16, [&](std::size_t i) {
@@ -87,6 +87,11 @@ std::vector<GpuVpl> draw_by_importance(std::span<const GpuVpl> candidates, int w
     }
     importance[i] = float(sum);
   });
+  return importance;
+}
+
+std::vector<GpuVpl> keep_by_importance(std::span<const GpuVpl> candidates, std::span<const float> importance,
+                                       int wanted, float u) {
   // When no candidate reaches a probe (a room the main light's first bounce cannot enter), none is kept: the
   // same rule, where cpu::resample would fall back to drawing them all alike.
   std::vector<GpuVpl> kept;
@@ -299,7 +304,8 @@ std::vector<GpuVpl> trace_second_bounce(std::span<const GpuVpl> sources, int wan
     hits[k] = {glm::vec4(surface.position, 0.0f), glm::vec4(surface.shading_normal, area), glm::vec4(flux, 1.0f)};
   });
   std::erase_if(hits, [](const GpuVpl& v) { return v.flux.w == 0.0f; });
-  return draw_by_importance(hits, wanted, probes, scene, clamp, hash_to_unit(hash_combine(seed, 1u)));
+  return keep_by_importance(hits, candidate_importance(hits, probes, scene, clamp), wanted,
+                            hash_to_unit(hash_combine(seed, 1u)));
 }
 
 }  // namespace
@@ -323,7 +329,8 @@ SsvpPass::SsvpPass()
   gl::check("creating the SSVP pass");
 }
 
-void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffers, const cpu::CpuScene* traced) {
+void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffers, const cpu::CpuScene* traced,
+                        std::size_t lamp_count) {
   first_count_ = second_count_ = 0;
   main_light_ = -1;
   clusters_.clear();
@@ -358,14 +365,18 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   p.pattern_rotation =
       context.sample == 0 ? 0 : static_cast<int32_t>(hash_combine(context.seed, context.sample) % 65536u);
 
+  if (context.sample == 0 || guides_.size() != lamp_count) guides_.assign(lamp_count, cpu::EmissionGuide{});
+  cpu::EmissionGuide* guide =
+      traced && std::size_t(main_light_) < guides_.size() ? &guides_[std::size_t(main_light_)] : nullptr;
   render_rsm(context, gbuffers, light);
-  sample_first_bounce(context, light);
+  sample_first_bounce(context, light, guide);
   std::vector<Probe> probes;
   if (traced) {
     StageScope scope(context.timer, Stage::SsvpImportance);
     probes = cpu::camera_probes(context.view_projection, *traced, importance_key(context));
   }
-  std::vector<GpuVpl> second = cluster(context, traced, probes);  // traced with VPL Importance, else propagated below
+  // Traced with VPL Importance, else propagated below.
+  std::vector<GpuVpl> second = cluster(context, traced, probes, guide);
   if (clusters_.empty()) {
     first_count_ = 0;
     return;
@@ -441,7 +452,8 @@ void SsvpPass::render_rsm(const RenderContext& context, const GBufferPass& gbuff
   params_.rsm_texel_factor = rsm_.texel_factor;
 }
 
-void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLight& light) {
+void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLight& light,
+                                   const cpu::EmissionGuide* guide) {
   StageScope scope(context.timer, Stage::SsvpCluster);
   SsvpParams& p = params_;
   const uint32_t n = static_cast<uint32_t>(p.first_count);
@@ -458,7 +470,17 @@ void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLig
       std::max(kMinSecondPerCluster,
                (std::clamp(context.settings.ssvp_second_vpls, 1, 1 << 16) + clusters_wanted - 1) / clusters_wanted);
   disk_points_ = ssvp::disk_set(static_cast<uint32_t>(p.second_per_cluster), glm::vec2(rotation.y, rotation.x));
-  const std::vector<glm::vec2> points = ssvp::hammersley_set(n, rotation);
+  std::vector<glm::vec2>& points = candidate_points_;
+  points = ssvp::hammersley_set(n, rotation);
+  candidate_weights_.assign(n, 1.0f);
+  // A guided candidate's cell follows the set's first coordinate (stratified), its place in the cell the second
+  // and an R2 coordinate; its flux and area are divided by the guide's density there (cluster()).
+  if (guide && !guide->uniform())
+    for (uint32_t k = 0; k < n; ++k) {
+      const cpu::EmissionGuide::Sample guided = guide->sample(points[k].x, {points[k].y, r2_point(k, rotation).x});
+      points[k] = guided.emission;
+      candidate_weights_[k] = 1.0f / guided.density;
+    }
   gl::reserve_buffer(points_, points_capacity_, (points.size() + disk_points_.size()) * sizeof(glm::vec2));
   glNamedBufferSubData(points_.id(), 0, static_cast<GLsizeiptr>(points.size() * sizeof(glm::vec2)), points.data());
   gl::reserve_buffer(first_vpls_, first_capacity_, n * sizeof(GpuVpl));
@@ -478,7 +500,7 @@ void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLig
 }
 
 std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::CpuScene* traced,
-                                      std::span<const Probe> probes) {
+                                      std::span<const Probe> probes, cpu::EmissionGuide* guide) {
   SsvpParams& p = params_;
   std::vector<GpuVpl> candidates, second;
   {
@@ -489,8 +511,20 @@ std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::C
   if (traced) {
     StageScope scope(context.timer, Stage::SsvpImportance);
     const uint32_t key = importance_key(context);
-    vpls =
-        draw_by_importance(candidates, first_wanted_, probes, *traced, p.epsilon, hash_to_unit(hash_combine(key, 1u)));
+    // A candidate stands for 1 / density of the area it would without a guide (ssvp_sample.comp keeps its point's
+    // index in position_cluster.w until it joins a cluster).
+    for (GpuVpl& candidate : candidates) {
+      const float weight = candidate_weights_[std::size_t(candidate.position_cluster.w)];
+      candidate.flux = glm::vec4(glm::vec3(candidate.flux) * weight, candidate.flux.w);
+      candidate.normal.w *= weight;
+    }
+    const std::vector<float> importance = candidate_importance(candidates, probes, *traced, p.epsilon);
+    if (guide) {
+      for (std::size_t i = 0; i < candidates.size(); ++i)
+        guide->learn(candidate_points_[std::size_t(candidates[i].position_cluster.w)], importance[i]);
+      guide->update();
+    }
+    vpls = keep_by_importance(candidates, importance, first_wanted_, hash_to_unit(hash_combine(key, 1u)));
     if (p.bounces > 1)
       second = trace_second_bounce(candidates, second_wanted_, probes, *traced, p.epsilon, hash_combine(key, 0x32u));
   }

@@ -41,6 +41,7 @@
 
 #include "cpu/cpu_scene.h"
 #include "cpu/view_probes.h"
+#include "cpu/vpls.h"
 #include "gl/objects.h"
 #include "passes/blur/geometry_blur.h"
 #include "passes/gbuffer/gbuffer_pass.h"
@@ -69,8 +70,10 @@ class SsvpPass {
   SsvpPass();
   // Once per sample, for the whole view (`context` covers every tile): the light's RSM, the VPLs, their
   // clusters and paraboloid maps, the second bounce. `traced`: Embree's copy of the scene when the frame plan
-  // draws the VPLs by importance, else null.
-  void generate(const RenderContext& context, const GBufferPass& gbuffers, const cpu::CpuScene* traced);
+  // draws the VPLs by importance, else null. The first `lamp_count` lights of the sample's list are the lamps,
+  // which keep their places from sample to sample.
+  void generate(const RenderContext& context, const GBufferPass& gbuffers, const cpu::CpuScene* traced,
+                std::size_t lamp_count);
   // Per tile: the pixels of `camera` lit by the sample's VPLs, blurred; the debug view.
   void shade(const RenderContext& context, const GBuffer& camera);
 
@@ -93,10 +96,10 @@ class SsvpPass {
   };
 
   void render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light);
-  void sample_first_bounce(const RenderContext& context, const BounceLight& light);
+  void sample_first_bounce(const RenderContext& context, const BounceLight& light, const cpu::EmissionGuide* guide);
   // Returns the second-bounce VPLs when it traces them (VPL Importance), else none.
   std::vector<GpuVpl> cluster(const RenderContext& context, const cpu::CpuScene* traced,
-                              std::span<const cpu::ViewProbe> probes);
+                              std::span<const cpu::ViewProbe> probes, cpu::EmissionGuide* guide);
   void allocate_paraboloids(const RenderContext& context, int layers);
   void render_paraboloids(const RenderContext& context, int begin, int end);  // layers [begin, end)
   void propagate(const RenderContext& context);
@@ -125,6 +128,11 @@ class SsvpPass {
   GLuint total_ = 0, second_ = 0;
 
   std::vector<glm::vec2> disk_points_;
+  // Where the first-bounce candidates fall on each lamp's RSM (with VPL Importance): learned over a render's
+  // samples from the candidates' importance, as the Topology method guides its lamps' emission (cpu/vpls.h).
+  std::vector<cpu::EmissionGuide> guides_;
+  std::vector<glm::vec2> candidate_points_;  // this sample's, over the RSM atlas
+  std::vector<float> candidate_weights_;     // 1 / the guide's density there
   std::vector<ssvp::Cluster> clusters_, previous_clusters_;
   std::vector<ssvp::Cluster> second_clusters_, previous_second_clusters_;  // their maps follow the first's
   uint32_t first_count_ = 0, second_count_ = 0;

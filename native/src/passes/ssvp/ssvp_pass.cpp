@@ -513,11 +513,12 @@ std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::C
     const uint32_t key = importance_key(context);
     // A candidate stands for 1 / density of the area it would without a guide (ssvp_sample.comp keeps its point's
     // index in position_cluster.w until it joins a cluster).
-    for (GpuVpl& candidate : candidates) {
-      const float weight = candidate_weights_[std::size_t(candidate.position_cluster.w)];
-      candidate.flux = glm::vec4(glm::vec3(candidate.flux) * weight, candidate.flux.w);
-      candidate.normal.w *= weight;
-    }
+    if (guide)
+      for (GpuVpl& candidate : candidates) {
+        const float weight = candidate_weights_[std::size_t(candidate.position_cluster.w)];
+        candidate.flux = glm::vec4(glm::vec3(candidate.flux) * weight, candidate.flux.w);
+        candidate.normal.w *= weight;
+      }
     const std::vector<float> importance = candidate_importance(candidates, probes, *traced, p.epsilon);
     if (guide) {
       for (std::size_t i = 0; i < candidates.size(); ++i)

@@ -171,4 +171,17 @@ inline Soup open_box() {
   return s;
 }
 
+// Blocks standing on a 200 m ground, as the budget's open ground (benchmarks/open_ground_scene.py) has them: the
+// ground sets the grid, so the air about the blocks is a slab a few voxels thick, which the skeleton splits into
+// clusters whose shared boundaries are no openings.
+inline Soup blocks_on_open_ground() {
+  Soup s;
+  s.quad({-100, -100, 0}, {100, 100, 0}, 2);
+  s.box({-1.0f, -1.0f, 0.0f}, {1.0f, 1.0f, 2.0f});
+  s.box({3.0f, 0.5f, 0.0f}, {4.0f, 3.5f, 1.0f});
+  s.box({-3.6f, 2.4f, 0.0f}, {-2.4f, 3.6f, 4.0f});
+  s.box({0.3f, -4.2f, 0.0f}, {2.7f, -1.8f, 2.4f});
+  return s;
+}
+
 }  // namespace bounce::test

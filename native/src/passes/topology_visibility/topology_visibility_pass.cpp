@@ -77,11 +77,12 @@ void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topol
                      glm::vec4(gate.axis_u, 0.0f),
                      glm::uvec4(gate.clusters[0], gate.clusters[1], gate.needs_ray() ? 1u : 0u, 0u)});
   }
-  // Two words per cluster (first index, count), then the gate indices of each cluster in turn.
-  std::vector<uint32_t> table(2 * of_cluster.size());
+  // Three words per cluster (first index, count, component), then the gate indices of each cluster in turn.
+  std::vector<uint32_t> table(3 * of_cluster.size());
   for (std::size_t c = 0; c < of_cluster.size(); ++c) {
-    table[2 * c] = uint32_t(table.size());
-    table[2 * c + 1] = uint32_t(of_cluster[c].size());
+    table[3 * c] = uint32_t(table.size());
+    table[3 * c + 1] = uint32_t(of_cluster[c].size());
+    table[3 * c + 2] = topology->component[c];
     table.insert(table.end(), of_cluster[c].begin(), of_cluster[c].end());
   }
   // GL buffers may not be empty.

@@ -67,7 +67,8 @@ void TopologyVisibilityPass::prepare(const std::shared_ptr<const topology::Topol
   const GridBlock grid{origin_voxel_, glm::ivec4(padded, int(topology->cluster_count))};
   glNamedBufferSubData(grid_.id(), 0, sizeof grid, &grid);
 
-  // The gates that need a ray stay out: the GPU has none to confirm a crossing with.
+  // A gate that needs a ray is marked (clusters.z): the GPU confirms a crossing through it by a march through the
+  // voxels (topology_voxels_clear).
   std::vector<GpuGate> gates;
   std::vector<std::vector<uint32_t>> of_cluster(topology->cluster_count);
   for (const topology::Gate& gate : topology->gates) {

@@ -114,13 +114,4 @@ std::span<const Occluders::Hit> cell_hits(const Occluders& occluders, const Grid
   return std::span(occluders.hits).subspan(std::size_t(slot - 1) * kPassageBins, kPassageBins);
 }
 
-float unoccluded(std::span<const Occluders::Hit> hits, glm::vec3 offset, float reach, float voxel) {
-  const float distance = glm::length(offset);
-  if (hits.empty() || !(distance > 0.0f)) return 1.0f;
-  const Occluders::Hit& hit = hits[std::size_t(shared::topology_passage_bin(offset / distance))];
-  if (!std::isfinite(hit.distance) || !shared::behind_occluder(hit.normal, hit.plane, offset, distance, reach, voxel))
-    return 1.0f;
-  return 1.0f - hit.share;
-}
-
 }  // namespace bounce::topology

@@ -13,15 +13,18 @@
 // clusters only, the Topology method kept 1.07 of its shadow rays' light in an open box with blocks, 1.01 now).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
 #include <span>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "passages.h"
+#include "shared_glsl.h"
 
 namespace bounce::topology {
 
@@ -52,7 +55,17 @@ std::span<const Occluders::Hit> cell_hits(const Occluders& occluders, const Grid
 // (shaders/topology_visibility/visibility.glsl) with the hit unpacked.
 // reach: how far from the receiver the segment enters its cluster through a gate (behind_occluder);
 // TOPOLOGY_WITHIN_CLUSTER for a light inside it.
-float unoccluded(std::span<const Occluders::Hit> hits, glm::vec3 offset, float reach, float voxel);
+// Inline: the Topology method calls it per light and receiver, the most frequent test of its gathering.
+inline float unoccluded(std::span<const Occluders::Hit> hits, glm::vec3 offset, float reach, float voxel) {
+  const float distance2 = glm::dot(offset, offset);
+  if (hits.empty() || !(distance2 > 0.0f)) return 1.0f;
+  // The octahedral map needs no unit direction: it divides by the L1 norm.
+  const Occluders::Hit& hit = hits[std::size_t(shared::topology_passage_bin(offset))];
+  if (!std::isfinite(hit.distance) ||
+      !shared::behind_occluder(hit.normal, hit.plane, offset, std::sqrt(distance2), reach, voxel))
+    return 1.0f;
+  return 1.0f - hit.share;
+}
 
 // The first surface along a ray: its distance (infinity when none) and unit geometric normal (the counter-clockwise
 // front's, whichever side the ray meets).

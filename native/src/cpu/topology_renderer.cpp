@@ -572,6 +572,8 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         const float sphere = 0.5f * glm::length(hi[g] - lo[g]) + offset;
         const uint32_t cluster = group_cluster[g];
         for (std::size_t l = 0; l < vpls_.size(); ++l) {
+          // A VPL lights its normal's half-space only: one with the whole group behind it lights none of it.
+          if (glm::dot(vpls_[l].normal, centre - vpls_[l].position) <= -sphere) continue;
           const Test test = visibility_test(settings.topology_visibility, topo, vpl_cluster_[l], cluster);
           // Rays only for the VPLs whose light reached a probe past the clusters and gates: a solid wall costs
           // no rays at shading.

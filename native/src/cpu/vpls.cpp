@@ -191,10 +191,10 @@ glm::vec3 vpl_irradiance(const Vpl& vpl, glm::vec3 x, glm::vec3 n, float clamp) 
   const glm::vec3 to_x = x - vpl.position;
   const float d2 = glm::dot(to_x, to_x);
   if (!(d2 > 0.0f)) return glm::vec3(0.0f);
-  const glm::vec3 dir = to_x / std::sqrt(d2);
-  const float cos_vpl = glm::dot(vpl.normal, dir), cos_x = -glm::dot(n, dir);
-  if (cos_vpl <= 0.0f || cos_x <= 0.0f) return glm::vec3(0.0f);
-  return vpl.power * (cos_vpl * cos_x / (kPi * std::max(d2, clamp * clamp)));
+  // The cosines times the squared distance, so that no square root is taken.
+  const float along_vpl = glm::dot(vpl.normal, to_x), along_x = -glm::dot(n, to_x);
+  if (along_vpl <= 0.0f || along_x <= 0.0f) return glm::vec3(0.0f);
+  return vpl.power * (along_vpl * along_x / d2 / (kPi * std::max(d2, clamp * clamp)));
 }
 
 }  // namespace bounce::cpu

@@ -289,6 +289,26 @@ TEST_F(TopologyRender, SunThroughAWindowConvergesOverSamples) {
   EXPECT_LT(many, 0.0625 * one);
 }
 
+// Interleaved gathering (Interleaving 2: each pixel of a 2x2 block gathers a quarter of the VPLs, four times as
+// bright, and the filter recombines them) keeps the image it renders without: the subsets are unbiased draws, so
+// the mean is the same but for noise, and the image repeats for a seed. The open box: walls, a floor and a
+// ceiling meet along edges the filter must not blur across, and clusters split its air.
+TEST_F(TopologyRender, InterleavedGatheringKeepsTheImage) {
+  build_lit_open_box();
+  settings_.samples = 16;
+  settings_.topology_interleaving = 1;
+  render();
+  const double every = mean_red(read(BOUNCE_AOV_INDIRECT));
+  settings_.topology_interleaving = 2;
+  const Image interleaved = render();
+  const double quarter = mean_red(read(BOUNCE_AOV_INDIRECT));
+  std::printf("open box mean Indirect: every VPL per pixel %.5g, interleaved 2x2 %.5g (%.3f)\n", every, quarter,
+              quarter / every);
+  EXPECT_TRUE(all_finite(interleaved));
+  EXPECT_NEAR(quarter / every, 1.0, 0.03);
+  EXPECT_EQ(mse(render(), interleaved), 0.0);
+}
+
 TEST_F(TopologyRender, ClosedRoomGetsNoIndirectLight) {
   // Two rooms split by a solid wall, the light in the first, the camera in the second: nothing reaches it. View
   // samples the grid counts as solid (along the room's edges) have no cluster; lit by every VPL, as they once

@@ -308,6 +308,66 @@ void draw_topology_pass(const topology::Topology& topo, const BounceSettings& se
   });
 }
 
+// The irradiance a view sample gathered from the VPLs: all of it, and the second bounce's part.
+struct Gathered {
+  glm::vec3 all{0.0f}, second{0.0f};
+};
+
+// Interleaved sampling (Keller and Heidrich 2001; Segovia et al. 2006), as Forward Light Cuts' tiling does on the
+// GPU: in each n x n block of pixels, each pixel gathers one of n^2 subsets of the VPLs (every n^2-th VPL, whose
+// light it takes n^2 times), so gathering costs about 1 / n^2 of every VPL per pixel. The VPLs are drawn afresh
+// each sample by systematic resampling, so every subset is itself an unbiased draw; recombining takes, over the
+// pixels of a (2n - 1)^2 window that see the same surface (visibility cluster, normal, plane), the mean of each
+// subset's estimates and the mean over the subsets found. Where a pixel has no such neighbour (an edge, a thin
+// object) it keeps its own subset's estimate: unbiased, noisier.
+struct Interleaving {
+  int n;
+  uint32_t subsets;
+
+  explicit Interleaving(int32_t setting) : n(std::clamp(setting, 1, 4)), subsets(uint32_t(n * n)) {}
+
+  uint32_t subset(int x, int y) const { return uint32_t(x % n + n * (y % n)); }
+
+  Gathered recombine(std::span<const ViewSample> view, std::span<const Gathered> gathered, int width, int height,
+                     int x0, int y0, std::size_t i) const {
+    if (subsets == 1) return gathered[i];
+    // Neighbours on the same surface: their normals within about 18 degrees, their points within 1 % of the
+    // distance to the camera of the pixel's tangent plane.
+    constexpr float kMinCosine = 0.95f, kPlaneSlack = 0.01f;
+    std::array<Gathered, 16> sum{};
+    std::array<int, 16> count{};
+    const ViewSample& v = view[i];
+    const int column = int(i % std::size_t(width)), row = int(i / std::size_t(width));
+    for (int dy = 1 - n; dy < n; ++dy)
+      for (int dx = 1 - n; dx < n; ++dx) {
+        const int x = column + dx, y = row + dy;
+        if (x < 0 || y < 0 || x >= width || y >= height) continue;
+        const std::size_t j = std::size_t(y) * std::size_t(width) + std::size_t(x);
+        const ViewSample& u = view[j];
+        if (j != i &&
+            (!u.hit || u.cluster != v.cluster ||
+             glm::dot(u.surface.shading_normal, v.surface.shading_normal) < kMinCosine ||
+             std::abs(glm::dot(u.surface.position - v.surface.position, v.surface.shading_normal)) > kPlaneSlack * v.t))
+          continue;
+        const uint32_t k = subset(x0 + x, y0 + y);
+        sum[k].all += gathered[j].all;
+        sum[k].second += gathered[j].second;
+        ++count[k];
+      }
+    Gathered mean;
+    int found = 0;
+    for (uint32_t k = 0; k < subsets; ++k)
+      if (count[k] > 0) {
+        mean.all += sum[k].all / float(count[k]);
+        mean.second += sum[k].second / float(count[k]);
+        ++found;
+      }
+    mean.all /= float(found);
+    mean.second /= float(found);
+    return mean;
+  }
+};
+
 }  // namespace
 
 uint32_t TopologyRenderer::vpl_cluster(const Vpl& vpl) const {
@@ -433,7 +493,9 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   sums.alpha.assign(pixels, 0.0f);
   std::vector<glm::vec4> topology_image(pixels, glm::vec4(0.0f));
   std::vector<ViewSample> view(pixels);
-  std::vector<glm::vec3> direct(pixels), indirect(pixels), second(pixels);
+  std::vector<glm::vec3> direct(pixels), indirect(pixels), second(pixels), near(pixels);
+  std::vector<Gathered> gathered(pixels);
+  const Interleaving interleaving(settings.topology_interleaving);
 
   auto make_frame = [&](int samples_done) {
     auto frame = std::make_shared<Frame>();
@@ -599,8 +661,10 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
         for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {
           const ViewSample& v = view[i];
-          indirect[i] = second[i] = glm::vec3(0.0f);
+          gathered[i] = {};
+          near[i] = glm::vec3(0.0f);
           if (!v.hit) continue;
+          const uint32_t subset = interleaving.subset(x0 + int(i % std::size_t(width)), y0 + int(row));
           const glm::vec3 x = v.surface.position, n = v.surface.shading_normal;
           glm::vec3 irradiance(0.0f), second_irradiance(0.0f);  // all bounces; the second alone
           const auto add = [&](const Vpl& vpl, glm::vec3 e) {
@@ -616,6 +680,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
             const auto occluder_hits = topology::cell_hits(topo.occluders, topo.grid.shape, x);
             const auto voxel = float(topo.grid.shape.voxel_size);
             for (const Assignment& a : group.lights) {
+              if (a.vpl % interleaving.subsets != subset) continue;
               const Vpl& vpl = vpls_[a.vpl];
               const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
               // The visibility tests last: most VPLs face away from a given sample.
@@ -632,19 +697,31 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
             }
           } else {
             const bool shadow_rays = settings.topology_visibility == 1;
-            for (const Vpl& vpl : vpls_) {
+            for (std::size_t l = subset; l < vpls_.size(); l += interleaving.subsets) {
+              const Vpl& vpl = vpls_[l];
               const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
               if (!(e.r + e.g + e.b > 0.0f)) continue;
               if (shadow_rays && blocked(vpl)) continue;
               add(vpl, e);
             }
           }
+          gathered[i] = {float(interleaving.subsets) * irradiance, float(interleaving.subsets) * second_irradiance};
           if (clamp > 0.0f) {
             Rng rng(seed, kNearField, (uint64_t(s) << 40) ^ i);
-            irradiance += near_field_irradiance(scene_, v.surface, lights, direct_rays, world_strategies, clamp, rng);
+            near[i] = near_field_irradiance(scene_, v.surface, lights, direct_rays, world_strategies, clamp, rng);
           }
-          indirect[i] = v.surface.albedo / kPi * irradiance;
-          second[i] = v.surface.albedo / kPi * second_irradiance;
+        }
+      });
+      parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
+        for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {
+          const ViewSample& v = view[i];
+          if (!v.hit) {
+            indirect[i] = second[i] = glm::vec3(0.0f);
+            continue;
+          }
+          const Gathered g = interleaving.recombine(view, gathered, width, height, x0, y0, i);
+          indirect[i] = v.surface.albedo / kPi * (g.all + near[i]);
+          second[i] = v.surface.albedo / kPi * g.second;
         }
       });
     }

@@ -38,6 +38,8 @@ class TopologyRender : public RenderFixture {
   }
   // The mean Indirect of clusters and gates over that of shadow rays, the same VPLs; printed with `what`.
   double clusters_over_shadow_rays(const char* what) {
+    // Every VPL per pixel: the two rules judge the same pairs (interleaving has a test of its own).
+    settings_.topology_interleaving = 1;
     settings_.topology_visibility = 1;  // shadow rays
     render();
     const double rays = mean_red(read(BOUNCE_AOV_INDIRECT));

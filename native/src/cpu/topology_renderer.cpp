@@ -204,8 +204,14 @@ bool near_emitter(std::span<const EmitterSphere> emitters, glm::vec3 p, glm::vec
   });
 }
 struct GroupLights {
-  std::vector<Assignment> lights;
-  std::vector<uint32_t> gates;  // the assignments' first gates
+  std::vector<Assignment> lights;    // by interleaving subset (Interleaving), each in VPL order
+  std::vector<uint32_t> gates;       // the assignments' first gates
+  std::vector<uint32_t> subset_end;  // per interleaving subset, the end of its lights
+
+  std::span<const Assignment> of_subset(uint32_t k) const {
+    const uint32_t begin = k == 0 ? 0 : subset_end[k - 1];
+    return std::span(lights).subspan(begin, subset_end[k] - begin);
+  }
 };
 
 // A sphere or a gate (a rectangle) of the Topology pass, drawn where the primary ray meets it before the surface.
@@ -634,26 +640,29 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         const glm::vec3 centre = 0.5f * (lo[g] + hi[g]);
         const float sphere = 0.5f * glm::length(hi[g] - lo[g]) + offset;
         const uint32_t cluster = group_cluster[g];
-        for (std::size_t l = 0; l < vpls_.size(); ++l) {
-          // A VPL lights its normal's half-space only: one with the whole group behind it lights none of it.
-          if (glm::dot(vpls_[l].normal, centre - vpls_[l].position) <= -sphere) continue;
-          const Test test = visibility_test(settings.topology_visibility, topo, vpl_cluster_[l], cluster);
-          // Rays only for the VPLs whose light reached a probe past the clusters and gates: a solid wall costs
-          // no rays at shading.
-          if (test == Test::kShadowRay && cluster != kNoNode && !vpl_lit_by_ray_[l]) continue;
-          GroupLights& group = assigned[g];
-          const bool emitter = near_emitter(spheres, vpls_[l].position, centre, sphere);
-          if (test != Test::kGates) {
-            group.lights.push_back({uint32_t(l), test, 0, 0, emitter});
-            continue;
+        GroupLights& group = assigned[g];
+        for (uint32_t subset = 0; subset < interleaving.subsets; ++subset) {
+          for (std::size_t l = subset; l < vpls_.size(); l += interleaving.subsets) {
+            // A VPL lights its normal's half-space only: one with the whole group behind it lights none of it.
+            if (glm::dot(vpls_[l].normal, centre - vpls_[l].position) <= -sphere) continue;
+            const Test test = visibility_test(settings.topology_visibility, topo, vpl_cluster_[l], cluster);
+            // Rays only for the VPLs whose light reached a probe past the clusters and gates: a solid wall costs
+            // no rays at shading.
+            if (test == Test::kShadowRay && cluster != kNoNode && !vpl_lit_by_ray_[l]) continue;
+            const bool emitter = near_emitter(spheres, vpls_[l].position, centre, sphere);
+            if (test != Test::kGates) {
+              group.lights.push_back({uint32_t(l), test, 0, 0, emitter});
+              continue;
+            }
+            // The first gate of a walk must open toward the group.
+            const auto first = uint32_t(group.gates.size());
+            for (uint32_t gate : graph.gates_of[vpl_cluster_[l]])
+              if (sphere_meets_gate_cone(vpls_[l].position, topo.gates[gate], centre, sphere))
+                group.gates.push_back(gate);
+            if (group.gates.size() > first)
+              group.lights.push_back({uint32_t(l), test, first, uint32_t(group.gates.size()) - first, emitter});
           }
-          // The first gate of a walk must open toward the group.
-          const auto first = uint32_t(group.gates.size());
-          for (uint32_t gate : graph.gates_of[vpl_cluster_[l]])
-            if (sphere_meets_gate_cone(vpls_[l].position, topo.gates[gate], centre, sphere))
-              group.gates.push_back(gate);
-          if (group.gates.size() > first)
-            group.lights.push_back({uint32_t(l), test, first, uint32_t(group.gates.size()) - first, emitter});
+          group.subset_end.push_back(uint32_t(group.lights.size()));
         }
       });
     }
@@ -680,8 +689,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
             const GroupLights& group = assigned[group_of[i]];
             const auto occluder_hits = topology::cell_hits(topo.occluders, topo.grid.shape, x);
             const auto voxel = float(topo.grid.shape.voxel_size);
-            for (const Assignment& a : group.lights) {
-              if (a.vpl % interleaving.subsets != subset) continue;
+            for (const Assignment& a : group.of_subset(subset)) {
               const Vpl& vpl = vpls_[a.vpl];
               const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
               // The visibility tests last: most VPLs face away from a given sample.

@@ -376,6 +376,11 @@ TEST_F(TopologyRender, RayChecksTakeTheRuleToTheShadowRays) {
   const Image image = render();
   EXPECT_TRUE(all_finite(image));
   EXPECT_EQ(mse(render(), image), 0.0);
+  for (const float share : {1e-12f, 1.0f}) {  // a check at most per pixel, and every pair checked
+    settings_.topology_ray_checks = share;
+    EXPECT_TRUE(all_finite(render())) << share;
+    EXPECT_GT(mean_red(read(BOUNCE_AOV_INDIRECT)), 0.0) << share;
+  }
 }
 
 }  // namespace

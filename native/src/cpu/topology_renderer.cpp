@@ -513,8 +513,9 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   std::vector<glm::vec3> direct(pixels), indirect(pixels), second(pixels), near(pixels);
   std::vector<Gathered> gathered(pixels);
   const Interleaving interleaving(settings.topology_interleaving);
+  // One light in check_every; a share below one in 65,536 (the most VPLs) checks at most one a pixel.
   const int check_every = settings.topology_ray_checks > 0.0f
-                              ? std::max(1, int(std::lround(1.0f / std::min(settings.topology_ray_checks, 1.0f))))
+                              ? int(std::lround(std::clamp(1.0f / settings.topology_ray_checks, 1.0f, 65536.0f)))
                               : 0;
 
   auto make_frame = [&](int samples_done) {

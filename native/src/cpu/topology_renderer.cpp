@@ -727,41 +727,40 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
                 return {0.0f, false};
               return {occluder_share(test, reach, entry, occluder_hits, vpl.position - x, voxel), false};
             };
-            for (const Assignment& a : group.of_subset(subset)) {
-              const Vpl& vpl = vpls_[a.vpl];
-              const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
-              // The visibility tests last: most VPLs face away from a given sample.
-              if (!(e.r + e.g + e.b > 0.0f)) continue;
-              const float share =
-                  verdict(a.vpl, a.test, std::span(group.gates).subspan(a.first_gate, a.first_gates), a.near_emitter)
-                      .share;
-              if (share > 0.0f) add(vpl, share * e);
-            }
             // Ray checks: every check_every-th light of the subset, from a random start, has the rule's verdict
             // checked by a shadow ray, and the difference taken check_every times: a control variate that makes
             // the estimate the shadow rays' in expectation. The rule is right for most pairs, so few checks add
             // little noise. A light the assignment left out has the verdict 0 (no gate opens toward the group, or
             // its light reached no probe by a ray): a gate the rule missed shows there.
+            const std::size_t stride = std::size_t(interleaving.subsets) * std::size_t(std::max(check_every, 1));
+            std::size_t first_check = vpls_.size();  // none
             if (check_every > 0) {
               Rng rng(seed, kRayChecks, (uint64_t(s) << 40) ^ i);
-              const std::span<const Assignment> subset_lights = group.of_subset(subset);
-              auto next = subset_lights.begin();
-              const std::size_t stride = std::size_t(interleaving.subsets) * std::size_t(check_every);
-              for (std::size_t l = subset + interleaving.subsets * std::size_t(rng.next() * float(check_every));
-                   l < vpls_.size(); l += stride) {
-                const Vpl& vpl = vpls_[l];
-                const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
-                if (!(e.r + e.g + e.b > 0.0f)) continue;
-                while (next != subset_lights.end() && next->vpl < l) ++next;
-                Verdict rule{0.0f, false};
-                if (next != subset_lights.end() && next->vpl == l)
-                  rule =
-                      verdict(next->vpl, next->test,
-                              std::span(group.gates).subspan(next->first_gate, next->first_gates), next->near_emitter);
-                if (rule.by_ray) continue;
-                const float seen = blocked(vpl) ? 0.0f : 1.0f;
-                if (seen != rule.share) add(vpl, float(check_every) * (seen - rule.share) * e);
-              }
+              first_check = subset + interleaving.subsets * std::size_t(rng.next() * float(check_every));
+            }
+            const auto check = [&](const Vpl& vpl, glm::vec3 e, float rule) {
+              const float seen = blocked(vpl) ? 0.0f : 1.0f;
+              if (seen != rule) add(vpl, float(check_every) * (seen - rule) * e);
+            };
+            const std::span<const Assignment> subset_lights = group.of_subset(subset);
+            std::size_t next_check = first_check;
+            for (const Assignment& a : subset_lights) {
+              const Vpl& vpl = vpls_[a.vpl];
+              const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
+              // The visibility tests last: most VPLs face away from a given sample.
+              if (!(e.r + e.g + e.b > 0.0f)) continue;
+              const Verdict rule =
+                  verdict(a.vpl, a.test, std::span(group.gates).subspan(a.first_gate, a.first_gates), a.near_emitter);
+              if (rule.share > 0.0f) add(vpl, rule.share * e);
+              while (next_check < a.vpl) next_check += stride;
+              if (next_check == a.vpl && !rule.by_ray) check(vpl, e, rule.share);
+            }
+            auto assigned_light = subset_lights.begin();
+            for (std::size_t l = first_check; l < vpls_.size(); l += stride) {
+              while (assigned_light != subset_lights.end() && assigned_light->vpl < l) ++assigned_light;
+              if (assigned_light != subset_lights.end() && assigned_light->vpl == l) continue;  // checked above
+              const glm::vec3 e = vpl_irradiance(vpls_[l], x, n, clamp);
+              if (e.r + e.g + e.b > 0.0f) check(vpls_[l], e, 0.0f);
             }
           } else {
             const bool shadow_rays = settings.topology_visibility == 1;

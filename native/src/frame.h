@@ -50,6 +50,14 @@ struct Frame {
       if (holds(aov)) aovs[aov].assign(std::size_t(w) * h * bounce_aov_channels(aov), 0.0f);
   }
   bool holds(int aov) const { return (held >> aov) & 1u; }
+  // Frees every AOV but those of `aov_bits`: a partial frame holds Combined alone once Ray Checks' clamp has read its
+  // Indirect pass.
+  void keep(uint32_t aov_bits) {
+    for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
+      if (!((aov_bits >> aov) & 1u)) std::vector<float>().swap(aovs[aov]);
+    held &= aov_bits;
+    info.aovs = held;
+  }
   // Scales the AOVs that average their samples (all but Depth, the nearest of them).
   void scale(float factor) {
     for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
@@ -59,6 +67,21 @@ struct Frame {
 
   // Sets every AOV value of a pixel whose channels are not all finite to zero; returns how many pixels had one
   // (counted once however many of their AOVs did: the count is of the image's pixels).
+  // Where signed corrections (Forward Light Cuts' Ray Checks) leave a pixel's mean Indirect below zero, it shows
+  // none: the deficit goes back into Indirect and Combined, on the mean of the samples (clamped per sample, the
+  // image would keep the rule's excess wherever a check found one).
+  void clamp_negative_indirect() {
+    if (!holds(BOUNCE_AOV_INDIRECT)) return;
+    const std::size_t indirect_channels = std::size_t(bounce_aov_channels(BOUNCE_AOV_INDIRECT));
+    const std::size_t combined_channels = std::size_t(bounce_aov_channels(BOUNCE_AOV_COMBINED));
+    for (std::size_t i = 0; i < std::size_t(width) * std::size_t(height); ++i)
+      for (std::size_t c = 0; c < 3; ++c) {
+        float& indirect = aovs[BOUNCE_AOV_INDIRECT][indirect_channels * i + c];
+        if (!(indirect < 0.0f)) continue;
+        if (holds(BOUNCE_AOV_COMBINED)) aovs[BOUNCE_AOV_COMBINED][combined_channels * i + c] -= indirect;
+        indirect = 0.0f;
+      }
+  }
   uint64_t zero_nonfinite() {
     std::vector<bool> bad(std::size_t(width) * height, false);
     for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov) {

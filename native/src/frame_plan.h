@@ -16,6 +16,7 @@ struct FramePlan {
   Indirect indirect = Indirect::None;
   int bounces = 0;                // diffuse bounces simulated: the paper's one for FLC, SSVP two at most
   bool indirect_shadows = false;  // the topology's clusters and gates shadow Forward Light Cuts' VPLs
+  float ray_checks = 0.0f;        // the share of those light-pixel pairs whose verdict a shadow ray checks
   int vpl_candidates = 1;         // Forward Light Cuts' VPLs drawn per VPL kept by its light, once rays have lit them
   bool vpl_importance = false;    // SSVP draws its VPLs where shadow rays say their light reaches the view
   // The GL VPL methods' distance clamp takes the first bounce's light next to lit surfaces; the near field gives it
@@ -41,6 +42,7 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
       plan.indirect = FramePlan::Indirect::ForwardLightCuts;
       plan.bounces = 1;
       plan.indirect_shadows = settings.flc_visibility != 0;
+      plan.ray_checks = plan.indirect_shadows ? std::clamp(settings.flc_ray_checks, 0.0f, 1.0f) : 0.0f;
       plan.vpl_candidates = plan.direct == FramePlan::Direct::RayTraced ? settings.flc_vpl_candidates : 1;
       plan.near_field_clamp = settings.flc_epsilon;
       plan.near_field_blur = settings.flc_blur_radius;

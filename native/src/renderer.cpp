@@ -284,7 +284,9 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       ComposePass::Indirect indirect;
       if (flc) {
         if (flc_visibility) topology_visibility_.execute(context, gbuffer_.gbuffer());
-        flc_.shade(context, gbuffer_.gbuffer(), flc_visibility ? &topology_visibility_ : nullptr);
+        std::optional<FlcPass::RayChecks> checks;
+        if (plan.ray_checks > 0.0f) checks.emplace(FlcPass::RayChecks{cpu_scene_, plan.ray_checks});
+        flc_.shade(context, gbuffer_.gbuffer(), flc_visibility ? &topology_visibility_ : nullptr, checks);
         if (flc_.active()) indirect = {flc_.indirect(), false, flc_.levels(), 0};
       }
       if (ssvp) {
@@ -312,8 +314,14 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     }
     if (!tiles_take_turns && s + 1 < samples && schedule.publish_due(s + 1)) {
       auto partial = std::make_shared<Frame>();
-      partial->allocate(frame->width, frame->height, aov_bits & kPartialFrameAovs);
+      // Ray Checks' clamp needs the Indirect pass.
+      const uint32_t clamped = plan.ray_checks > 0.0f ? aov_bits & (1u << BOUNCE_AOV_INDIRECT) : 0u;
+      partial->allocate(frame->width, frame->height, aov_bits & (kPartialFrameAovs | clamped));
       read_frame(*partial, s + 1);
+      if (plan.ray_checks > 0.0f) {
+        partial->clamp_negative_indirect();
+        partial->keep(kPartialFrameAovs);
+      }
       partial->info.nonfinite_pixels = partial->zero_nonfinite();
       if (schedule.published(*partial, s + 1)) {  // meets Noise Target: the render's last frame, every AOV read below
         samples_done = s + 1;
@@ -327,6 +335,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     frame->scale(float(samples) / float(samples_done));  // the tiles were added in as 1/samples of each sample
   else
     read_frame(*frame, samples_done);
+  if (plan.ray_checks > 0.0f) frame->clamp_negative_indirect();
   finish_info(*frame, samples_done);
   frame->info.nonfinite_pixels = frame->zero_nonfinite();
   frame->info.noise_relmse = schedule.noise_relmse(*frame, samples_done);

@@ -25,6 +25,8 @@ const char* stage_name(Stage stage) {
       return "FLC splat";
     case Stage::FlcResolve:
       return "FLC untile + blur";
+    case Stage::FlcRayChecks:
+      return "FLC ray checks";
     case Stage::TopologyVisibility:
       return "Topology visibility";
     case Stage::SsvpRsm:

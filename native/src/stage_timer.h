@@ -20,6 +20,7 @@ enum class Stage {
   FlcLighting,         // direct irradiance at the VPLs
   FlcSplat,            // splatting into the interleaved sub-images
   FlcResolve,          // untiling and blur
+  FlcRayChecks,        // Ray Checks: the checked pairs read back, their shadow rays (CPU, Embree), the correction
   TopologyVisibility,  // the pixels' visibility clusters (Forward Light Cuts' Indirect Shadows)
   SsvpRsm,             // Screen-Space VPL Propagation: the main light's reflective shadow map
   SsvpCluster,         // first-bounce sampling, k-means, second-bounce propagation (the paper's "Misc")

@@ -23,6 +23,21 @@ layout(binding = 21) uniform usampler2D pixel_clusters;  // TopologyVisibilityPa
 // surface it meets, as float bits (FlcPass::trace_ray_maps).
 layout(std430, binding = 15) readonly buffer FlcRayMaps { uvec2 flc_ray_maps[]; };
 
+// Ray Checks: the pairs whose verdict a shadow ray checks on the CPU (FlcPass::check_by_rays), the count first.
+struct FlcRayCheck {
+  vec4 light_verdict;        // the VPL's position, the rule's verdict
+  vec4 light_normal;
+  vec4 receiver;             // the pixel's surface point
+  vec4 receiver_normal;
+  vec3 unshadowed;           // the VPL's light at the pixel, unshadowed
+  uint pixel;                // its index in the tile
+};
+layout(std430, binding = 16) buffer FlcRayChecks {
+  uint flc_ray_check_count;
+  uint flc_ray_check_pad[3];
+  FlcRayCheck flc_ray_checks[];
+};
+
 layout(location = 0) out vec4 out_indirect;
 
 void main() {
@@ -70,13 +85,25 @@ void main() {
   float visibility = flc.visibility != 0 ? topology_visibility(from, s_vpl_position, s_vpl_normal,
                                                                texelFetch(pixel_clusters, pixel, 0).r, x, normal, reach)
                                          : 1.0;
-  if (visibility == 0.0) discard;
+  // Ray Checks: a random share of the pairs, lit or not by the rule, goes to the CPU, where a shadow ray's verdict
+  // corrects the rule's (a control variate: Topology's Ray Checks, cpu::TopologyRenderer).
+  bool checked = flc.visibility != 0 && settings.flc_ray_checks > 0.0 &&
+                 hash_to_unit(pcg_hash(floatBitsToUint(s_vpl_position.x) ^
+                                       pcg_hash(floatBitsToUint(s_vpl_position.z) ^ flc.u_rand)) ^
+                              uint(pixel.y * flc.image_width + pixel.x)) < settings.flc_ray_checks;
+  if (visibility == 0.0 && !checked) discard;
   float clamped = max(flc.epsilon, distance);
   // L(t_i, y_i x) = rho_i E / pi, a diffuse surface's; with Cosine-Lobe Lights Eq. 6's rho_i E 3/(2 pi)
   // <n_i, y_i x>+, which leaves light at grazing angles too dark. Eq. 9 holds for either: the partition of Eq. 16
   // over d = |x - y| / <n_i, y_i x> is one of unity whatever the radiance.
   // H = L rho_x <n_x, x y_i>+ <n_i, y_i x>+ / (pi d^2) (Eq. 5).
   float lobe = flc.cosine_lobe != 0 ? 1.5 * cos_emitter : 1.0;
-  vec3 h = s_radiance_factor * lobe * albedo.rgb * cos_receiver * cos_emitter / (FLC_PI * clamped * clamped);
-  out_indirect = vec4(h * (f * visibility), 0.0);
+  vec3 h = s_radiance_factor * lobe * albedo.rgb * cos_receiver * cos_emitter / (FLC_PI * clamped * clamped) * f;
+  if (checked) {
+    uint slot = atomicAdd(flc_ray_check_count, 1u);
+    if (slot < uint(flc_ray_checks.length()))
+      flc_ray_checks[slot] = FlcRayCheck(vec4(s_vpl_position, visibility), vec4(s_vpl_normal, 0.0), vec4(x, 0.0),
+                                         vec4(normal, 0.0), h, uint(pixel.y * flc.image_width + pixel.x));
+  }
+  out_indirect = vec4(h * visibility, 0.0);
 }

@@ -526,11 +526,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       std::copy(value, value + channels, frame->aovs[aov].data() + std::size_t(bounce_aov_channels(aov)) * i);
     };
     for (std::size_t i = 0; i < pixels; ++i) {
-      // Ray Checks' corrections are signed: a pixel whose samples add up to less than no indirect light (the light
-      // they took away was not there) shows none. Clamped on the mean, not per sample, which biased dark corners
-      // up (Sponza's gallery: its second bounce 1.14 of Cycles with each sample clamped, 1.06 with the rule alone).
-      const glm::vec3 deficit = glm::max(-sums.indirect[i], 0.0f) * scale;
-      const glm::vec4 combined(sums.combined[i] * scale + deficit, sums.alpha[i] * scale);
+      const glm::vec4 combined(sums.combined[i] * scale, sums.alpha[i] * scale);
       put(BOUNCE_AOV_COMBINED, i, glm::value_ptr(combined), 4);
       for (auto [aov, sum] : {std::pair{BOUNCE_AOV_DIRECT, &sums.direct},
                               {BOUNCE_AOV_EMISSION, &sums.emission},
@@ -539,13 +535,16 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         const glm::vec3 value = (*sum)[i] * scale;
         put(aov, i, glm::value_ptr(value), 3);
       }
-      const glm::vec3 indirect_mean = sums.indirect[i] * scale + deficit;
+      const glm::vec3 indirect_mean = sums.indirect[i] * scale;
       const glm::vec3 second_mean = glm::max(sums.second[i] * scale, 0.0f);
       put(BOUNCE_AOV_INDIRECT, i, glm::value_ptr(indirect_mean), 3);
       put(BOUNCE_AOV_SECOND_BOUNCE, i, glm::value_ptr(second_mean), 3);
       put(BOUNCE_AOV_DEPTH, i, &sums.depth[i], 1);
       put(BOUNCE_AOV_TOPOLOGY, i, glm::value_ptr(topology_image[i]), 4);
     }
+    // Clamped on the mean, not per sample, which biased dark corners up (Sponza's gallery: its second bounce 1.14 of
+    // Cycles with each sample clamped, 1.06 with the rule alone).
+    frame->clamp_negative_indirect();
     frame->info.nonfinite_pixels = frame->zero_nonfinite();
     frame->info.vpl_count = vpls_.size();
     frame->info.cluster_count = static_cast<int32_t>(topo.cluster_count);

@@ -455,15 +455,15 @@ void FlcPass::check_by_rays(const RayChecks& checks) {
     return std::tuple(check.pixel, std::bit_cast<uint32_t>(check.light_verdict.x),
                       std::bit_cast<uint32_t>(check.light_verdict.y), std::bit_cast<uint32_t>(check.light_verdict.z));
   };
-  std::sort(checked_.begin(), checked_.end(), [&](const RayCheck& a, const RayCheck& b) { return key(a) < key(b); });
+  std::sort(checked_.begin(), checked_.end(), [key](const RayCheck& a, const RayCheck& b) { return key(a) < key(b); });
   const float offset = checks.scene.ray_offset();
-  std::vector<float> seen(checked_.size());
+  seen_.resize(checked_.size());
   parallel_for(checked_.size(), 0, 256, [&](std::size_t i) {
     const RayCheck& check = checked_[i];
-    seen[i] = checks.scene.clear_between(glm::vec3(check.light_verdict) + glm::vec3(check.light_normal) * offset,
-                                         glm::vec3(check.receiver) + glm::vec3(check.receiver_normal) * offset)
-                  ? 1.0f
-                  : 0.0f;
+    seen_[i] = checks.scene.clear_between(glm::vec3(check.light_verdict) + glm::vec3(check.light_normal) * offset,
+                                          glm::vec3(check.receiver) + glm::vec3(check.receiver_normal) * offset)
+                   ? 1.0f
+                   : 0.0f;
   });
   untiled_light_.resize(std::size_t(width_) * std::size_t(height_));
   glGetTextureImage(untiled_.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(untiled_light_.size() * sizeof(glm::vec4)),
@@ -472,7 +472,7 @@ void FlcPass::check_by_rays(const RayChecks& checks) {
   for (std::size_t i = 0; i < checked_.size(); ++i) {
     const RayCheck& check = checked_[i];
     if (check.pixel < untiled_light_.size())
-      untiled_light_[check.pixel] += glm::vec4(check.unshadowed * (weight * (seen[i] - check.light_verdict.w)), 0.0f);
+      untiled_light_[check.pixel] += glm::vec4(check.unshadowed * (weight * (seen_[i] - check.light_verdict.w)), 0.0f);
   }
   glTextureSubImage2D(untiled_.id(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, untiled_light_.data());
   gl::check("Forward Light Cuts' ray checks");

@@ -118,6 +118,7 @@ class FlcPass {
   std::size_t ray_checks_bytes_ = 0;
   std::size_t ray_checks_wanted_ = 0;  // RayChecks: the most a sample asked for
   std::vector<RayCheck> checked_;
+  std::vector<float> seen_;  // per checked pair, 1 where its shadow ray is clear
   std::vector<glm::vec4> untiled_light_;
   gl::Texture noise_;
   FlcParams params_{};

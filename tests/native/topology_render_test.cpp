@@ -293,7 +293,10 @@ TEST_F(TopologyRender, SunThroughAWindowConvergesOverSamples) {
   // 1.7 with as many VPLs traced uniformly; 0.93 with shadow rays too, whose light includes those few bright VPLs
   // (0.42 without them).
   EXPECT_LT(one, 1.0);
-  EXPECT_LT(many, 0.0625 * one);
+  // Monte Carlo's rate, 1/16 from 1 to 256 samples, within a quarter: the near field's ray per pixel converges at
+  // that rate (with Distance Clamp at 0.03 it carries light next to the sunlit sill: 0.516 and 0.033 here), the
+  // guided VPLs faster (0.44 and 0.017 with the clamp at 0.01, whose near field carried next to nothing).
+  EXPECT_LT(many, 1.25 * one / 16.0);
 }
 
 // Interleaved gathering (Interleaving 2: each pixel of a 2x2 block gathers a quarter of the VPLs, four times as

@@ -6,17 +6,19 @@
 
 namespace bounce::cpu {
 
-glm::vec3 near_field_irradiance(const CpuScene& scene, const Surface& x, std::span<const BounceLight> lights,
-                                const ShadowRays& rays, const WorldStrategies& world, float clamp, Rng& rng) {
+NearField near_field(const CpuScene& scene, const Surface& x, std::span<const BounceLight> lights,
+                     const ShadowRays& rays, const WorldStrategies& world, float clamp, Rng& rng) {
   const float u1 = rng.next(), u2 = rng.next();
   const glm::vec3 direction = cosine_direction(x.shading_normal, u1, u2);
-  if (!(glm::dot(direction, x.normal) > 0.0f)) return glm::vec3(0.0f);
+  if (!(glm::dot(direction, x.normal) > 0.0f)) return {};
   const auto hit = scene.intersect(x.position + x.normal * scene.ray_offset(), direction, 0.0f, clamp);
-  if (!hit) return glm::vec3(0.0f);
+  if (!hit) return {};
   const Surface y = scene.surface(*hit, direction);
   const float d = hit->t / clamp;
-  // pi times y's radiance, albedo / pi times its direct irradiance
-  return y.albedo * direct_irradiance(lights, y.position, y.shading_normal, rays, rng, &world) * (1.0f - d * d);
+  // pi times y's radiance, albedo / pi times its irradiance
+  const glm::vec3 reflectance = y.albedo * (1.0f - d * d);
+  return {reflectance * direct_irradiance(lights, y.position, y.shading_normal, rays, rng, &world), reflectance,
+          y.position, y.shading_normal};
 }
 
 }  // namespace bounce::cpu

@@ -4,7 +4,8 @@
 // cosine-drawn ray from x up to c, and where it meets a surface y, pi times y's reflected direct light times
 // (1 - d^2 / c^2). Light next to a lit surface (a column's foot, a corner by a sunlit floor) came out dark without
 // it: the Topology method's first bounce in Sponza with shadow rays was 0.943 of Cycles (0.884 in the right
-// third), 1.013 with it. The second bounce's share of that light (y's own indirect light) is not given back.
+// third), 1.013 with it. The second bounce's share (y's own first-bounce light) is given back by the renderer
+// that has gathered that light where the camera sees y (NearField::reflectance times it).
 #pragma once
 
 #include <span>
@@ -17,9 +18,15 @@
 
 namespace bounce::cpu {
 
-// One ray's estimate of the irradiance the clamp c (metres) takes at x from `lights` (a sample's list; `world`
-// as in direct_irradiance).
-glm::vec3 near_field_irradiance(const CpuScene& scene, const Surface& x, std::span<const BounceLight> lights,
-                                const ShadowRays& rays, const WorldStrategies& world, float clamp, Rng& rng);
+// One ray's estimate of what the clamp c (metres) takes at x.
+struct NearField {
+  glm::vec3 irradiance{0.0f};   // of the first bounce: from y's reflected direct light of `lights`
+  glm::vec3 reflectance{0.0f};  // y's albedo times (1 - d^2 / c^2): times the irradiance y receives, what it adds
+  glm::vec3 position{0.0f}, normal{0.0f};  // y's; normal 0 where the ray met nothing
+};
+
+// `lights`: a sample's list; `world` as in direct_irradiance.
+NearField near_field(const CpuScene& scene, const Surface& x, std::span<const BounceLight> lights,
+                     const ShadowRays& rays, const WorldStrategies& world, float clamp, Rng& rng);
 
 }  // namespace bounce::cpu

@@ -488,7 +488,8 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   const ClusterGraph graph(topo);
 
   const glm::dmat4 world_to_view = glm::dmat4(glm::make_mat4(camera.world_to_view));
-  const glm::dmat4 clip_to_world = glm::inverse(glm::dmat4(glm::make_mat4(camera.projection)) * world_to_view);
+  const glm::dmat4 world_to_clip = glm::dmat4(glm::make_mat4(camera.projection)) * world_to_view;
+  const glm::dmat4 clip_to_world = glm::inverse(world_to_clip);
   const float radius = scene_.radius();
   const float offset = scene_.ray_offset();
   const float clamp = settings.topology_distance_clamp * radius;
@@ -510,7 +511,9 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   sums.alpha.assign(pixels, 0.0f);
   std::vector<glm::vec4> topology_image(pixels, glm::vec4(0.0f));
   std::vector<ViewSample> view(pixels);
-  std::vector<glm::vec3> direct(pixels), indirect(pixels), second(pixels), near(pixels);
+  std::vector<glm::vec3> direct(pixels), indirect(pixels), second(pixels);
+  std::vector<NearField> near(pixels);
+  const bool two_bounces = settings.bounces >= 2;
   std::vector<Gathered> gathered(pixels);
   const Interleaving interleaving(settings.topology_interleaving);
   // One light in check_every; a share below one in 65,536 (the most VPLs) checks at most one a pixel.
@@ -691,7 +694,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {
           const ViewSample& v = view[i];
           gathered[i] = {};
-          near[i] = glm::vec3(0.0f);
+          near[i] = {};
           if (!v.hit) continue;
           const uint32_t subset = interleaving.subset(x0 + int(i % std::size_t(width)), y0 + int(row));
           const glm::vec3 x = v.surface.position, n = v.surface.shading_normal;
@@ -774,10 +777,38 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
           gathered[i] = {float(interleaving.subsets) * irradiance, float(interleaving.subsets) * second_irradiance};
           if (clamp > 0.0f) {
             Rng rng(seed, kNearField, (uint64_t(s) << 40) ^ i);
-            near[i] = near_field_irradiance(scene_, v.surface, lights, direct_rays, world_strategies, clamp, rng);
+            near[i] = near_field(scene_, v.surface, lights, direct_rays, world_strategies, clamp, rng);
           }
         }
       });
+      std::vector<Gathered> recombined(pixels);
+      parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
+        for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i)
+          if (view[i].hit) recombined[i] = interleaving.recombine(view, gathered, width, height, x0, y0, i);
+      });
+      // A pixel's first-bounce irradiance: the VPLs' and its near field's.
+      const auto first_bounce = [&](std::size_t i) {
+        return recombined[i].all - recombined[i].second + near[i].irradiance;
+      };
+      // The first-bounce irradiance at y, the surface a pixel's near-field ray met: that of the pixel that sees y
+      // (y within the clamp of its surface, facing the same way); where the camera does not see y, that of the
+      // pixel itself where it faces as y does, else none (in a corner the other face's light is another: taking
+      // the wall's for the floor beside it gave a corner's second bounce 1.10 of what a tight clamp gives).
+      const auto first_bounce_at = [&](std::size_t i, const NearField& y) -> glm::vec3 {
+        const glm::dvec4 clip = world_to_clip * glm::dvec4(glm::dvec3(y.position), 1.0);
+        if (clip.w > 0.0) {
+          const double column = (clip.x / clip.w + 1.0) * 0.5 * camera.width - x0 - jitter.x;
+          const double row = (clip.y / clip.w + 1.0) * 0.5 * camera.height - y0 - jitter.y;
+          if (column >= 0.0 && row >= 0.0 && column < width && row < height) {
+            const std::size_t j = std::size_t(row) * std::size_t(width) + std::size_t(column);
+            const Surface& seen = view[j].surface;
+            if (view[j].hit && glm::distance(seen.position, y.position) < clamp &&
+                glm::dot(seen.shading_normal, y.normal) > 0.7f)
+              return first_bounce(j);
+          }
+        }
+        return glm::dot(view[i].surface.shading_normal, y.normal) > 0.7f ? first_bounce(i) : glm::vec3(0.0f);
+      };
       parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
         for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {
           const ViewSample& v = view[i];
@@ -785,9 +816,12 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
             indirect[i] = second[i] = glm::vec3(0.0f);
             continue;
           }
-          const Gathered g = interleaving.recombine(view, gathered, width, height, x0, y0, i);
-          indirect[i] = v.surface.albedo / kPi * (g.all + near[i]);
-          second[i] = v.surface.albedo / kPi * g.second;
+          const Gathered& g = recombined[i];
+          const NearField& y = near[i];
+          const glm::vec3 near_second =
+              two_bounces && y.normal != glm::vec3(0.0f) ? y.reflectance * first_bounce_at(i, y) : glm::vec3(0.0f);
+          indirect[i] = v.surface.albedo / kPi * (g.all + y.irradiance + near_second);
+          second[i] = v.surface.albedo / kPi * (g.second + near_second);
         }
       });
     }

@@ -72,7 +72,7 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
   if (near_field_clamp > 0.0f) {
     StageScope scope(context.timer, Stage::NearField);
     each_pixel(near_light_, kNearField, [&](const cpu::Surface& x, cpu::Rng& rng) {
-      return cpu::near_field_irradiance(scene, x, lights, rays, world, near_field_clamp, rng) / kPi;
+      return cpu::near_field(scene, x, lights, rays, world, near_field_clamp, rng).irradiance / kPi;
     });
     glTextureSubImage2D(near_field_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, near_light_.data());
   }

@@ -263,21 +263,22 @@ void draw_topology_pass(const topology::Topology& topo, const BounceSettings& se
     for (const topology::Gate& gate : topo.gates)
       glyphs.push_back({gate.centre, gate.radius, &gate, {0.2f, 0.45f, 1.0f, 0.7f}});
   // Screen rectangles of the glyphs' bounding boxes, so each row tests only the glyphs that may cover it.
-  const glm::mat4 world_to_clip = glm::make_mat4(camera.projection) * glm::make_mat4(camera.world_to_view);
+  const glm::dmat4 world_to_clip =
+      glm::dmat4(glm::make_mat4(camera.projection)) * glm::dmat4(glm::make_mat4(camera.world_to_view));
   std::vector<glm::ivec4> rects(glyphs.size());
   for (std::size_t g = 0; g < glyphs.size(); ++g) {
-    glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+    glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     bool behind = false;
     for (int corner = 0; corner < 8; ++corner) {
       const glm::vec3 sign((corner & 1) ? 1.0f : -1.0f, (corner & 2) ? 1.0f : -1.0f, (corner & 4) ? 1.0f : -1.0f);
-      const glm::vec4 clip = world_to_clip * glm::vec4(glyphs[g].centre + sign * glyphs[g].radius, 1.0f);
-      if (!(clip.w > 0.0f)) {
+      const std::optional<glm::dvec2> pixel = image_point(
+          world_to_clip, glm::dvec3(glyphs[g].centre + sign * glyphs[g].radius), camera.width, camera.height);
+      if (!pixel) {
         behind = true;
         break;
       }
-      const glm::vec2 pixel = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * glm::vec2(camera.width, camera.height);
-      lo = glm::min(lo, pixel);
-      hi = glm::max(hi, pixel);
+      lo = glm::min(lo, *pixel);
+      hi = glm::max(hi, *pixel);
     }
     rects[g] = behind ? glm::ivec4(0, 0, width - 1, height - 1)
                       : glm::ivec4(std::clamp(int(std::floor(lo.x)) - x0, -1, width),
@@ -514,7 +515,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
   std::vector<glm::vec3> direct(pixels), indirect(pixels), second(pixels);
   std::vector<NearField> near(pixels);
   const bool two_bounces = settings.bounces >= 2;
-  std::vector<Gathered> gathered(pixels);
+  std::vector<Gathered> gathered(pixels), recombined(pixels);
   const Interleaving interleaving(settings.topology_interleaving);
   // One light in check_every; a share below one in 65,536 (the most VPLs) checks at most one a pixel.
   const int check_every = settings.topology_ray_checks > 0.0f
@@ -781,10 +782,9 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
           }
         }
       });
-      std::vector<Gathered> recombined(pixels);
       parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
         for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i)
-          if (view[i].hit) recombined[i] = interleaving.recombine(view, gathered, width, height, x0, y0, i);
+          recombined[i] = view[i].hit ? interleaving.recombine(view, gathered, width, height, x0, y0, i) : Gathered{};
       });
       // A pixel's first-bounce irradiance: the VPLs' and its near field's.
       const auto first_bounce = [&](std::size_t i) {
@@ -795,10 +795,8 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       // pixel itself where it faces as y does, else none (in a corner the other face's light is another: taking
       // the wall's for the floor beside it gave a corner's second bounce 1.10 of what a tight clamp gives).
       const auto first_bounce_at = [&](std::size_t i, const NearField& y) -> glm::vec3 {
-        const glm::dvec4 clip = world_to_clip * glm::dvec4(glm::dvec3(y.position), 1.0);
-        if (clip.w > 0.0) {
-          const double column = (clip.x / clip.w + 1.0) * 0.5 * camera.width - x0 - jitter.x;
-          const double row = (clip.y / clip.w + 1.0) * 0.5 * camera.height - y0 - jitter.y;
+        if (const auto point = image_point(world_to_clip, glm::dvec3(y.position), camera.width, camera.height)) {
+          const double column = point->x - x0 - jitter.x, row = point->y - y0 - jitter.y;
           if (column >= 0.0 && row >= 0.0 && column < width && row < height) {
             const std::size_t j = std::size_t(row) * std::size_t(width) + std::size_t(column);
             const Surface& seen = view[j].surface;

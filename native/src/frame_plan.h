@@ -23,6 +23,9 @@ struct FramePlan {
   // back: by Embree rays with the ray-traced direct light, else marched through the G-buffer (which misses
   // surfaces the camera does not see). Blurred over near_field_blur pixels, as the method blurs its indirect light.
   NearField near_field = NearField::None;
+  // The bounces whose share the near field gives back: the second's too where the method has one and rays meet
+  // the surfaces (where the camera does not see them, the G-buffer has none of their light).
+  int near_field_bounces = 0;
   float near_field_clamp = 0.0f;  // a fraction of the scene's radius
   int near_field_blur = 0;
 
@@ -61,9 +64,11 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
     default:  // DIRECT (AUTO renders with the explicit method of its plan: auto_plan.h)
       break;
   }
-  if (plan.near_field_clamp > 0.0f)
+  if (plan.near_field_clamp > 0.0f) {
     plan.near_field = plan.direct == FramePlan::Direct::RayTraced ? FramePlan::NearField::RayTraced
                                                                   : FramePlan::NearField::FromGBuffer;
+    plan.near_field_bounces = plan.near_field == FramePlan::NearField::RayTraced ? plan.bounces : 1;
+  }
   return plan;
 }
 

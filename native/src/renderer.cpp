@@ -278,7 +278,9 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       gbuffer_.execute(context);
       if (traced_direct)
         traced_direct_.execute(context, gbuffer_.gbuffer(), cpu_scene_, scene_lights_,
-                               plan.near_field == FramePlan::NearField::RayTraced ? near_field_clamp : 0.0f);
+                               plan.near_field == FramePlan::NearField::RayTraced
+                                   ? TracedDirectPass::NearFieldRays{near_field_clamp, plan.near_field_bounces >= 2}
+                                   : TracedDirectPass::NearFieldRays{});
       else
         direct_.execute(context, gbuffer_.gbuffer(), shadows_);
       ComposePass::Indirect indirect;
@@ -294,9 +296,14 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
         if (ssvp_.active()) indirect = {ssvp_.indirect(), true, ssvp_.debug(), ssvp_.second()};
       }
       const GLuint direct = traced_direct ? traced_direct_.output() : direct_.output();
-      if (indirect.light != 0 && plan.near_field == FramePlan::NearField::RayTraced)
+      if (indirect.light != 0 && plan.near_field == FramePlan::NearField::RayTraced) {
         indirect.near_field =
             near_field_.smoothed(context, gbuffer_.gbuffer(), traced_direct_.near_field(), plan.near_field_blur);
+        if (plan.near_field_bounces >= 2 && indirect.second_bounce != 0)
+          indirect.near_field_second = near_field_.second_bounce(
+              context, gbuffer_.gbuffer(), traced_direct_.near_field_reflectance(), traced_direct_.near_field_source(),
+              indirect.light, indirect.second_bounce, indirect.near_field, plan.near_field_blur);
+      }
       if (indirect.light != 0 && plan.near_field == FramePlan::NearField::FromGBuffer)
         indirect.near_field =
             near_field_.from_gbuffer(context, gbuffer_.gbuffer(), direct, near_field_clamp, plan.near_field_blur);

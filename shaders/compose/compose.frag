@@ -1,7 +1,8 @@
 // One sample's AOVs (Combined = direct + indirect + emission), added into the accumulation targets (depth: kept
 // at its minimum by a MIN blend). Indirect light arrives reflected (FLC) or as irradiance / pi, to be
 // multiplied by the albedo here (SSVP, which blurs before the albedo so textures stay sharp), and the near field's
-// irradiance / pi (near_field/near_field.frag) is added to it times the albedo.
+// irradiance / pi (near_field/near_field.frag, and near_field_second.frag's second bounce) is added to it times
+// the albedo.
 #include "common/equirect_shared.glsl"
 
 layout(binding = 1) uniform sampler2D g_albedo;
@@ -14,6 +15,7 @@ layout(binding = 12) uniform sampler2D vpls;
 
 layout(binding = 13) uniform sampler2D environment;
 layout(binding = 14) uniform sampler2D near_field;
+layout(binding = 15) uniform sampler2D near_field_second;
 
 layout(location = 0) uniform vec3 u_background;  // 0 where the camera does not see the world (transparent, hidden)
 layout(location = 1) uniform float u_background_alpha;
@@ -24,6 +26,7 @@ layout(location = 5) uniform mat3 u_world_to_environment;
 layout(location = 6) uniform mat4 u_clip_to_world;  // of this tile, jittered
 layout(location = 7) uniform vec2 u_tile_size;
 layout(location = 8) uniform int u_has_near_field;
+layout(location = 9) uniform int u_has_near_field_second;
 
 layout(location = 0) out vec4 out_combined;
 layout(location = 1) out vec4 out_direct;
@@ -62,6 +65,7 @@ void main() {
   vec3 indirect = u_has_indirect != 0 ? texelFetch(indirect_light, pixel, 0).rgb : vec3(0.0);
   if (u_indirect_times_albedo != 0) indirect *= albedo.rgb;
   if (u_has_near_field != 0) indirect += albedo.rgb * texelFetch(near_field, pixel, 0).rgb;
+  if (u_has_near_field_second != 0) indirect += albedo.rgb * texelFetch(near_field_second, pixel, 0).rgb;
   out_combined = vec4(direct + indirect + emission, 1.0);
   out_indirect = vec4(indirect, 0.0);
   out_direct = vec4(direct, 0.0);

@@ -5,11 +5,15 @@
 // (1 - d^2 / c^2). Light next to a lit surface (a column's foot, a corner by a sunlit floor) came out dark without
 // it: the Topology method's first bounce in Sponza with shadow rays was 0.943 of Cycles (0.884 in the right
 // third), 1.013 with it. The second bounce's share (y's own first-bounce light) is given back by the renderer
-// that has gathered that light where the camera sees y (NearField::reflectance times it).
+// that has gathered that light where the camera sees y (NearField::reflectance times it, at first_bounce_pixel).
 #pragma once
 
+#include <cstddef>
+#include <optional>
 #include <span>
 
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "cpu/cpu_scene.h"
@@ -28,5 +32,31 @@ struct NearField {
 // `lights`: a sample's list; `world` as in direct_irradiance.
 NearField near_field(const CpuScene& scene, const Surface& x, std::span<const BounceLight> lights,
                      const ShadowRays& rays, const WorldStrategies& world, float clamp, Rng& rng);
+
+// A pixel's surface, as the camera sees it.
+struct SeenSurface {
+  glm::vec3 position, normal;
+};
+
+// The pixel whose first-bounce irradiance y (met by the near-field ray of pixel `own`) receives: the pixel that
+// sees y (y within the clamp of its surface, facing the same way); where the camera does not see y, `own` where
+// it faces as y does, else none (in a corner the other face's light is another: taking the wall's for the floor
+// beside it gave a corner's second bounce 1.10 of what a tight clamp gives). `point`: where y falls in the
+// width x height image (image_point, in pixels); `seen(j)`: pixel j's optional SeenSurface.
+template <class Seen>
+std::optional<std::size_t> first_bounce_pixel(const NearField& y, std::size_t own, std::optional<glm::dvec2> point,
+                                              int width, int height, float clamp, const Seen& seen) {
+  constexpr float kSameFacing = 0.7f;
+  if (point && point->x >= 0.0 && point->y >= 0.0 && point->x < width && point->y < height) {
+    const std::size_t j = std::size_t(point->y) * std::size_t(width) + std::size_t(point->x);
+    const std::optional<SeenSurface> surface = seen(j);
+    if (surface && glm::distance(surface->position, y.position) < clamp &&
+        glm::dot(surface->normal, y.normal) > kSameFacing)
+      return j;
+  }
+  const std::optional<SeenSurface> surface = seen(own);
+  if (surface && glm::dot(surface->normal, y.normal) > kSameFacing) return own;
+  return std::nullopt;
+}
 
 }  // namespace bounce::cpu

@@ -790,22 +790,17 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       const auto first_bounce = [&](std::size_t i) {
         return recombined[i].all - recombined[i].second + near[i].irradiance;
       };
-      // The first-bounce irradiance at y, the surface a pixel's near-field ray met: that of the pixel that sees y
-      // (y within the clamp of its surface, facing the same way); where the camera does not see y, that of the
-      // pixel itself where it faces as y does, else none (in a corner the other face's light is another: taking
-      // the wall's for the floor beside it gave a corner's second bounce 1.10 of what a tight clamp gives).
+      // The first-bounce irradiance at y, the surface a pixel's near-field ray met.
       const auto first_bounce_at = [&](std::size_t i, const NearField& y) -> glm::vec3 {
-        if (const auto point = image_point(world_to_clip, glm::dvec3(y.position), camera.width, camera.height)) {
-          const double column = point->x - x0 - jitter.x, row = point->y - y0 - jitter.y;
-          if (column >= 0.0 && row >= 0.0 && column < width && row < height) {
-            const std::size_t j = std::size_t(row) * std::size_t(width) + std::size_t(column);
-            const Surface& seen = view[j].surface;
-            if (view[j].hit && glm::distance(seen.position, y.position) < clamp &&
-                glm::dot(seen.shading_normal, y.normal) > 0.7f)
-              return first_bounce(j);
-          }
-        }
-        return glm::dot(view[i].surface.shading_normal, y.normal) > 0.7f ? first_bounce(i) : glm::vec3(0.0f);
+        std::optional<glm::dvec2> point =
+            image_point(world_to_clip, glm::dvec3(y.position), camera.width, camera.height);
+        if (point) *point -= glm::dvec2(x0, y0) + glm::dvec2(jitter);
+        const auto seen = [&](std::size_t j) {
+          return view[j].hit ? std::optional<SeenSurface>({view[j].surface.position, view[j].surface.shading_normal})
+                             : std::nullopt;
+        };
+        const std::optional<std::size_t> j = first_bounce_pixel(y, i, point, width, height, clamp, seen);
+        return j ? first_bounce(*j) : glm::vec3(0.0f);
       };
       parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
         for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {

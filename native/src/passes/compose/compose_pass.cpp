@@ -49,6 +49,7 @@ void ComposePass::accumulate(int slot, const RenderContext& context, const GBuff
   glBindTextureUnit(11, indirect.light);
   glBindTextureUnit(12, indirect.vpls);
   glBindTextureUnit(14, indirect.near_field);
+  glBindTextureUnit(15, indirect.near_field_second);
   glUseProgram(program_.id());
   const BounceWorld& world = context.scene.world();
   const float seen = world.transparent || world.camera_hidden ? 0.0f : 1.0f;
@@ -64,15 +65,17 @@ void ComposePass::accumulate(int slot, const RenderContext& context, const GBuff
   glUniform1i(2, indirect.light != 0);
   glUniform1i(3, indirect.times_albedo ? 1 : 0);
   glUniform1i(8, indirect.near_field != 0);
+  glUniform1i(9, indirect.near_field_second != 0);
   glEnable(GL_BLEND);
   for (GLuint aov = 0; aov < kComposedAovs; ++aov) {
     glBlendFunci(aov, GL_ONE, GL_ONE);
     glBlendEquationi(aov, aov == BOUNCE_AOV_DEPTH ? GL_MIN : GL_FUNC_ADD);
   }
   draw_fullscreen_triangle();
-  if (indirect.second_bounce != 0) {
+  for (const GLuint second_bounce : {indirect.second_bounce, indirect.near_field_second}) {
+    if (second_bounce == 0) continue;
     glBindFramebuffer(GL_FRAMEBUFFER, targets.second_bounce_framebuffer.id());
-    glBindTextureUnit(12, indirect.second_bounce);
+    glBindTextureUnit(12, second_bounce);
     glUseProgram(add_times_albedo_.id());
     glBlendFunci(0, GL_ONE, GL_ONE);
     glBlendEquationi(0, GL_FUNC_ADD);

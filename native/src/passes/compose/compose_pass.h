@@ -24,9 +24,10 @@ class ComposePass {
   struct Indirect {
     GLuint light = 0;  // reflected radiance, or irradiance / pi when times_albedo
     bool times_albedo = false;
-    GLuint vpls = 0;           // debug view
-    GLuint second_bounce = 0;  // irradiance / pi
-    GLuint near_field = 0;     // irradiance / pi of the first bounce, added to `light` (NearFieldPass)
+    GLuint vpls = 0;               // debug view
+    GLuint second_bounce = 0;      // irradiance / pi
+    GLuint near_field = 0;         // irradiance / pi of the first bounce, added to `light` (NearFieldPass)
+    GLuint near_field_second = 0;  // irradiance / pi of the second bounce, added to `light` and `second_bounce`
   };
   void accumulate(int slot, const RenderContext& context, const GBuffer& gbuffer, GLuint direct,
                   const Indirect& indirect);

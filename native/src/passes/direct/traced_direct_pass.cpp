@@ -3,6 +3,7 @@
 #include <glm/geometric.hpp>
 
 #include "common/parallel.h"
+#include "cpu/camera_ray.h"
 #include "cpu/direct_light.h"
 #include "cpu/near_field.h"
 #include "cpu/random.h"
@@ -18,7 +19,7 @@ constexpr uint64_t kNearField = 32;     // of the near field's rays
 }  // namespace
 
 void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuffer, const cpu::CpuScene& scene,
-                               const SceneLights& scene_lights, float near_field_clamp) {
+                               const SceneLights& scene_lights, NearFieldRays near_field) {
   const int width = context.width, height = context.height;
   const std::size_t pixels = std::size_t(width) * std::size_t(height);
   const auto& lights = context.lights;
@@ -27,7 +28,7 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
   const cpu::ShadowRays rays{scene.bvh(), scene.ray_offset(), 1, scene.opaque(), context.settings.shadow_softness};
   const cpu::WorldStrategies world{scene_lights, context.settings.world_lights};
   const glm::vec4 *position = nullptr, *normal = nullptr, *albedo = nullptr, *geometric_normal = nullptr;
-  // Sets out[i] to light(x, rng) for each covered pixel i, with its surface x and one random stream per image
+  // Sets out[i] to light(x, rng, i) for each covered pixel i, with its surface x and one random stream per image
   // pixel, sample and `stream`: tiles and the untiled image draw the same rays.
   const auto each_pixel = [&](std::vector<glm::vec4>& out, uint64_t stream, const auto& light) {
     out.assign(pixels, glm::vec4(0.0f));
@@ -43,7 +44,7 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
         const uint64_t pixel = (uint64_t(uint32_t(context.tile_origin.y) + uint32_t(row)) << 32) |
                                uint32_t(context.tile_origin.x + int(i - row * std::size_t(width)));
         cpu::Rng rng(context.seed, stream ^ (uint64_t(context.sample) << 8), pixel);
-        out[i] = glm::vec4(light(x, rng), 0.0f);
+        out[i] = light(x, rng, i);
       }
     });
   };
@@ -52,6 +53,8 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
     if (width_ != width || height_ != height) {
       direct_ = gl::make_texture_2d(GL_RGBA32F, width, height);
       near_field_ = gl::make_texture_2d(GL_RGBA32F, width, height);
+      near_field_reflectance_ = gl::make_texture_2d(GL_RGBA32F, width, height);
+      near_field_source_ = gl::make_texture_2d(GL_R32I, width, height);
       width_ = width;
       height_ = height;
     }
@@ -64,17 +67,43 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
     normal = texels + pixels;
     albedo = texels + 2 * pixels;
     geometric_normal = texels + 3 * pixels;
-    each_pixel(light_, kTracedDirect, [&](const cpu::Surface& x, cpu::Rng& rng) {
-      return x.albedo / kPi * cpu::direct_irradiance(lights, x.position, x.shading_normal, rays, rng, &world);
+    each_pixel(light_, kTracedDirect, [&](const cpu::Surface& x, cpu::Rng& rng, std::size_t) {
+      return glm::vec4(x.albedo / kPi * cpu::direct_irradiance(lights, x.position, x.shading_normal, rays, rng, &world),
+                       0.0f);
     });
     glTextureSubImage2D(direct_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, light_.data());
   }
-  if (near_field_clamp > 0.0f) {
+  if (near_field.clamp > 0.0f) {
     StageScope scope(context.timer, Stage::NearField);
-    each_pixel(near_light_, kNearField, [&](const cpu::Surface& x, cpu::Rng& rng) {
-      return cpu::near_field(scene, x, lights, rays, world, near_field_clamp, rng).irradiance / kPi;
+    if (near_field.second_bounce) {
+      near_reflectance_.assign(pixels, glm::vec4(0.0f));
+      near_source_.assign(pixels, -1);
+    }
+    const glm::dmat4 world_to_clip(context.view_projection);
+    const auto seen = [&](std::size_t j) {
+      return albedo[j].a != 0.0f
+                 ? std::optional<cpu::SeenSurface>({glm::vec3(position[j]), glm::normalize(glm::vec3(normal[j]))})
+                 : std::nullopt;
+    };
+    each_pixel(near_light_, kNearField, [&](const cpu::Surface& x, cpu::Rng& rng, std::size_t i) {
+      const cpu::NearField y = cpu::near_field(scene, x, lights, rays, world, near_field.clamp, rng);
+      if (near_field.second_bounce && y.normal != glm::vec3(0.0f)) {
+        const std::optional<std::size_t> j =
+            cpu::first_bounce_pixel(y, i, cpu::image_point(world_to_clip, glm::dvec3(y.position), width, height), width,
+                                    height, near_field.clamp, seen);
+        if (j) {
+          near_reflectance_[i] = glm::vec4(y.reflectance, 0.0f);
+          near_source_[i] = int32_t(*j);
+        }
+      }
+      return glm::vec4(y.irradiance / kPi, 0.0f);
     });
     glTextureSubImage2D(near_field_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, near_light_.data());
+    if (near_field.second_bounce) {
+      glTextureSubImage2D(near_field_reflectance_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT,
+                          near_reflectance_.data());
+      glTextureSubImage2D(near_field_source_.id(), 0, 0, 0, width, height, GL_RED_INTEGER, GL_INT, near_source_.data());
+    }
   }
   gbuffer_readback_.release();
   gl::check("uploading the ray-traced direct light");

@@ -5,7 +5,8 @@
 // uploaded as the sample's direct light. Shadow maps blur and shift shadow edges by a texel (sunlit stripes
 // through blinds came out a pixel too wide) and leak through thin closed walls; rays do neither. With a near-field
 // clamp it also traces, per pixel, the ray of cpu/near_field.h: the first bounce's light that a VPL method's
-// distance clamp takes. No shaders: the pass runs on the CPU threads.
+// distance clamp takes, and for a method with a second bounce, what the surface the ray met reflects and where the
+// camera sees that surface, for NearFieldPass::second_bounce. No shaders: the pass runs on the CPU threads.
 #pragma once
 
 #include <vector>
@@ -22,18 +23,28 @@ namespace bounce {
 
 class TracedDirectPass {
  public:
+  // What the near field's rays give back of a VPL method's distance clamp.
+  struct NearFieldRays {
+    float clamp = 0.0f;          // metres; 0: no rays
+    bool second_bounce = false;  // the second bounce's share too (near_field_lookups)
+  };
   // `lights`: the sample's list came from it (its world's directions are one of two strategies, direct_light.h).
-  // `near_field_clamp`: the VPL method's distance clamp in metres, 0 for none.
   void execute(const RenderContext& context, const GBuffer& gbuffer, const cpu::CpuScene& scene,
-               const SceneLights& lights, float near_field_clamp);
+               const SceneLights& lights, NearFieldRays near_field);
   GLuint output() const { return direct_.id(); }          // RGBA32F, as DirectPass::output()
   GLuint near_field() const { return near_field_.id(); }  // RGBA32F, irradiance / pi; stale without a clamp
+  // For the second bounce's share; stale without it. RGBA32F: the reflectance of the surface y a pixel's ray met
+  // (NearField::reflectance). R32I: the index (row * width + column) of the pixel whose first-bounce irradiance y
+  // receives (cpu::first_bounce_pixel), -1 for none.
+  GLuint near_field_reflectance() const { return near_field_reflectance_.id(); }
+  GLuint near_field_source() const { return near_field_source_.id(); }
 
  private:
-  gl::Texture direct_, near_field_;
+  gl::Texture direct_, near_field_, near_field_reflectance_, near_field_source_;
   int width_ = 0, height_ = 0;
   gl::TextureReadback gbuffer_readback_;
-  std::vector<glm::vec4> light_, near_light_;
+  std::vector<glm::vec4> light_, near_light_, near_reflectance_;
+  std::vector<int32_t> near_source_;
 };
 
 }  // namespace bounce

@@ -7,17 +7,22 @@ namespace bounce {
 
 NearFieldPass::NearFieldPass()
     : program_(gl::build_program(
-          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "near_field/near_field.frag"}})) {}
+          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "near_field/near_field.frag"}})),
+      second_program_(gl::build_program(
+          {{GL_VERTEX_SHADER, "common/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "near_field/near_field_second.frag"}})) {}
+
+void NearFieldPass::fit(const RenderContext& context) {
+  if (width_ == context.width && height_ == context.height) return;
+  light_ = gl::make_texture_2d(GL_RGBA32F, context.width, context.height);
+  target_ = gl::make_framebuffer({light_.id()}, 0);
+  width_ = context.width;
+  height_ = context.height;
+}
 
 GLuint NearFieldPass::from_gbuffer(const RenderContext& context, const GBuffer& gbuffer, GLuint direct, float clamp,
                                    int blur_radius) {
   StageScope scope(context.timer, Stage::NearField);
-  if (width_ != context.width || height_ != context.height) {
-    light_ = gl::make_texture_2d(GL_RGBA32F, context.width, context.height);
-    target_ = gl::make_framebuffer({light_.id()}, 0);
-    width_ = context.width;
-    height_ = context.height;
-  }
+  fit(context);
   glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
   glViewport(0, 0, context.width, context.height);
   gbuffer.bind_for_reading();
@@ -35,6 +40,22 @@ GLuint NearFieldPass::from_gbuffer(const RenderContext& context, const GBuffer& 
 GLuint NearFieldPass::smoothed(const RenderContext& context, const GBuffer& gbuffer, GLuint traced, int blur_radius) {
   StageScope scope(context.timer, Stage::NearField);
   return blur_.run(traced, gbuffer, blur_radius);
+}
+
+GLuint NearFieldPass::second_bounce(const RenderContext& context, const GBuffer& gbuffer, GLuint reflectance,
+                                    GLuint source, GLuint indirect, GLuint second, GLuint near_field, int blur_radius) {
+  StageScope scope(context.timer, Stage::NearField);
+  fit(context);
+  glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
+  glViewport(0, 0, context.width, context.height);
+  glBindTextureUnit(8, reflectance);
+  glBindTextureUnit(9, source);
+  glBindTextureUnit(10, indirect);
+  glBindTextureUnit(11, second);
+  glBindTextureUnit(12, near_field);
+  glUseProgram(second_program_.id());
+  draw_fullscreen_triangle();
+  return second_blur_.run(light_.id(), gbuffer, blur_radius);
 }
 
 }  // namespace bounce

@@ -2,7 +2,8 @@
 // 2006's bias compensation, cpu/near_field.h), blurred like the indirect light: traced by Embree rays with the
 // direct light (TracedDirectPass), or here, where the direct light comes from shadow maps, by short cosine rays
 // marched through the G-buffer, which give back L_direct (1 - d^2 / c^2) of the visible surfaces within the clamp
-// c. Shaders: shaders/common/fullscreen.vert, shaders/near_field/near_field.frag.
+// c. With the traced rays, second_bounce gives back the second bounce's share too. Shaders:
+// shaders/common/fullscreen.vert, shaders/near_field/near_field.frag, shaders/near_field/near_field_second.frag.
 #pragma once
 
 #include "gl/objects.h"
@@ -20,12 +21,21 @@ class NearFieldPass {
   GLuint from_gbuffer(const RenderContext& context, const GBuffer& gbuffer, GLuint direct, float clamp,
                       int blur_radius);
   GLuint smoothed(const RenderContext& context, const GBuffer& gbuffer, GLuint traced, int blur_radius);
+  // The second bounce's light next to lit surfaces (irradiance / pi, blurred; valid until the next call): each
+  // pixel's ray met a surface y of `reflectance` that receives the first-bounce irradiance of pixel `source`
+  // (TracedDirectPass::near_field_reflectance and near_field_source), there `indirect` (both bounces) less `second`
+  // plus `near_field` (this pass's first bounce), all irradiance / pi.
+  GLuint second_bounce(const RenderContext& context, const GBuffer& gbuffer, GLuint reflectance, GLuint source,
+                       GLuint indirect, GLuint second, GLuint near_field, int blur_radius);
 
  private:
-  gl::Program program_;
+  // Allocates light_ and target_ at the context's size.
+  void fit(const RenderContext& context);
+
+  gl::Program program_, second_program_;
   gl::Texture light_;
   gl::Framebuffer target_;
-  GeometryBlur blur_;
+  GeometryBlur blur_, second_blur_;
   int width_ = 0, height_ = 0;
 };
 

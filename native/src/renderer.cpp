@@ -300,9 +300,9 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
         indirect.near_field =
             near_field_.smoothed(context, gbuffer_.gbuffer(), traced_direct_.near_field(), plan.near_field_blur);
         if (plan.near_field_bounces >= 2 && indirect.second_bounce != 0)
-          indirect.near_field_second = near_field_.second_bounce(
-              context, gbuffer_.gbuffer(), traced_direct_.near_field_reflectance(), traced_direct_.near_field_source(),
-              indirect.light, indirect.second_bounce, indirect.near_field, plan.near_field_blur);
+          indirect.near_field_second = near_field_.second_bounce(context, traced_direct_.near_field_reflectance(),
+                                                                 traced_direct_.near_field_source(), indirect.light,
+                                                                 indirect.second_bounce, indirect.near_field);
       }
       if (indirect.light != 0 && plan.near_field == FramePlan::NearField::FromGBuffer)
         indirect.near_field =

@@ -42,8 +42,8 @@ GLuint NearFieldPass::smoothed(const RenderContext& context, const GBuffer& gbuf
   return blur_.run(traced, gbuffer, blur_radius);
 }
 
-GLuint NearFieldPass::second_bounce(const RenderContext& context, const GBuffer& gbuffer, GLuint reflectance,
-                                    GLuint source, GLuint indirect, GLuint second, GLuint near_field, int blur_radius) {
+GLuint NearFieldPass::second_bounce(const RenderContext& context, GLuint reflectance, GLuint source, GLuint indirect,
+                                    GLuint second, GLuint near_field) {
   StageScope scope(context.timer, Stage::NearField);
   fit(context);
   glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
@@ -55,7 +55,7 @@ GLuint NearFieldPass::second_bounce(const RenderContext& context, const GBuffer&
   glBindTextureUnit(12, near_field);
   glUseProgram(second_program_.id());
   draw_fullscreen_triangle();
-  return second_blur_.run(light_.id(), gbuffer, blur_radius);
+  return light_.id();
 }
 
 }  // namespace bounce

@@ -26,7 +26,7 @@ class TracedDirectPass {
   // What the near field's rays give back of a VPL method's distance clamp.
   struct NearFieldRays {
     float clamp = 0.0f;          // metres; 0: no rays
-    bool second_bounce = false;  // the second bounce's share too (near_field_lookups)
+    bool second_bounce = false;  // the second bounce's share too (near_field_reflectance, near_field_source)
   };
   // `lights`: the sample's list came from it (its world's directions are one of two strategies, direct_light.h).
   void execute(const RenderContext& context, const GBuffer& gbuffer, const cpu::CpuScene& scene,

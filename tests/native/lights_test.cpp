@@ -172,6 +172,49 @@ TEST_F(AnalyticLights, RayTracedShadowEndsWhereTheOccluderSays) {
   }
 }
 
+// A wall's penumbra under a rectangle light, by ray-traced shadows over 16 samples of one ray: each pixel's rays
+// take the next points of a rotated R2 sequence every sample (cpu::Progression), so they cover the light evenly.
+// A wall of height h in the plane x = 0 hides from the floor point (x > 0, 0) the light's points at height H with
+// lx < x (1 - H / h): the visible fraction of a light spanning [-w/2, w/2] falls linearly over the penumbra.
+// Independent random points (as before) left a root-mean-square error of 0.101 in that fraction (Topology: 0.104);
+// Roberts' R2 sequence 0.078, its 1D projections filling in slowly; Sobol's 0.031.
+TEST_F(AnalyticLights, RayTracedPenumbraIsStratifiedOverSamples) {
+  const float wall = 1.0f, height = 2.0f, half_width = 1.0f;
+  add_soup(2, {{0, -20, 0}, {0, 20, 0}, {0, 20, wall}, {0, -20, 0}, {0, 20, wall}, {0, -20, wall}});
+  set_instances({1, 2}, {glm::mat4(1.0f), glm::mat4(1.0f)});
+  light_ = make_light(BOUNCE_LIGHT_AREA_RECT, {0.0f, 0.0f, height}, glm::vec3(10.0f));
+  light_.half_size[0] = light_.half_size[1] = half_width;
+  settings_.shadow_method = BOUNCE_SHADOWS_RAY_TRACED;
+  settings_.samples = 16;
+  for (int method : {BOUNCE_METHOD_DIRECT, BOUNCE_METHOD_TOPOLOGY}) {
+    settings_.method = method;
+    light_.cast_shadow = 0;
+    set_lights({light_});
+    const Image unshadowed = render(BOUNCE_AOV_DIRECT);
+    light_.cast_shadow = 1;
+    set_lights({light_});
+    const Image shadowed = render(BOUNCE_AOV_DIRECT);
+    double squared = 0.0, signed_sum = 0.0;
+    int compared = 0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        const float px = pixel_world(x, y, kHalf, kSize).x;
+        const float visible = (half_width - px * (1.0f - height / wall)) / (2.0f * half_width);
+        if (px < 0.1f || visible > 0.95f) continue;
+        const double error = shadowed.at(x, y)[0] / unshadowed.at(x, y)[0] - visible;
+        squared += error * error;
+        signed_sum += error;
+        ++compared;
+      }
+    ASSERT_GT(compared, 300);
+    const double rms = std::sqrt(squared / compared), mean = signed_sum / compared;
+    EXPECT_LT(rms, 0.05) << "method " << method;
+    EXPECT_LT(std::abs(mean), 0.01) << "method " << method;
+    std::printf("method %d: %d penumbra pixels, visible fraction's error rms %.4f, mean %.4f\n", method, compared, rms,
+                mean);
+  }
+}
+
 TEST_F(AnalyticLights, PointLightGrazing) {
   const float intensity = 2000.0f;
   const glm::vec3 position(-7.0f, 1.0f, 0.6f);  // low beside the view: 5 to 85 degrees off the normal

@@ -1,5 +1,5 @@
-// Sample sequences: centred first samples, uniformity, light sample points inside the light, and the resampling
-// of candidate VPLs by importance.
+// Sample sequences: centred first samples, stratification, uniformity, light sample points inside the light, and the
+// resampling of candidate VPLs by importance.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,6 +20,31 @@ TEST(Sampling, R2StartsAtTheCentreAndStaysInTheUnitSquare) {
     EXPECT_LT(p.x, 1.0f);
     EXPECT_GE(p.y, 0.0f);
     EXPECT_LT(p.y, 1.0f);
+  }
+}
+
+// Any 2^m points from a multiple of 2^m fill each of the 2^m intervals of each of the first two coordinates once,
+// and every 2^(3m) of the three dimensions fill each of the (2^m)^3 cells once; rotated, they stay in [0,1).
+TEST(Sampling, SobolPointsAreStratifiedAndStayInTheUnitCube) {
+  for (uint32_t first : {0u, 16u, 4096u})
+    for (int dimension = 0; dimension < 3; ++dimension) {
+      std::vector<int> hits(16, 0);
+      for (uint32_t i = first; i < first + 16; ++i)
+        ++hits[std::size_t(sobol_point(i, glm::vec3(0.0f))[dimension] * 16)];
+      for (int h : hits) EXPECT_EQ(h, 1) << "points " << first << "+, dimension " << dimension;
+    }
+  std::vector<int> cells(64, 0);
+  for (uint32_t i = 0; i < 64; ++i) {
+    const glm::ivec3 c(sobol_point(i, glm::vec3(0.0f)) * 4.0f);
+    ++cells[std::size_t(c.x * 16 + c.y * 4 + c.z)];
+  }
+  for (int h : cells) EXPECT_EQ(h, 1);
+  for (uint32_t i = 0; i < 1000; ++i) {
+    const glm::vec3 p = sobol_point(i, glm::vec3(0.3f, 0.9f, 0.99999994f));
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_GE(p[d], 0.0f);
+      EXPECT_LT(p[d], 1.0f);
+    }
   }
 }
 

@@ -28,6 +28,9 @@ int grid_side(int samples, int dimensions) {
   return k;
 }
 
+// The world's cosine-weighted directions' item among a Progression's rotations (the lights' are their indices).
+constexpr uint64_t kCosineDirections = ~uint64_t(0);
+
 // The rays of one query.
 struct ShadingContext {
   const embree::Scene& bvh;
@@ -35,7 +38,13 @@ struct ShadingContext {
   float offset;
   int samples;
   float softness;
-  Rng& rng;
+  glm::vec3 rotation;  // the rotation of the sequence's points (Progression)
+  uint32_t sample;     // the query takes its `count` points from sample x count on
+
+  glm::vec2 point2(int j, int count) const {
+    return sobol_point(sample * uint32_t(count) + uint32_t(j), glm::vec2(rotation));
+  }
+  glm::vec3 point3(int j, int count) const { return sobol_point(sample * uint32_t(count) + uint32_t(j), rotation); }
 
   // Whether the segment from y (pushed off its surface along n) to `target` is free.
   bool visible(glm::vec3 y, glm::vec3 n, glm::vec3 target) const {
@@ -64,24 +73,18 @@ glm::vec3 point_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, S
   const glm::vec3 unshadowed = glm::make_vec3(light.intensity) * falloff;
   if (!(falloff > 0.0f) || !light.cast_shadow) return unshadowed;
   if (r <= 0.0f) return context.visible(y, n, centre) ? unshadowed : glm::vec3(0.0f);
-  const int k = grid_side(context.samples, 3);
+  const int k = grid_side(context.samples, 3), count = k * k * k;
   int above = 0, seen = 0;
-  for (int i = 0; i < k; ++i) {
-    for (int j = 0; j < k; ++j) {
-      for (int m = 0; m < k; ++m) {
-        const float u1 = (float(i) + context.rng.next()) / float(k);
-        const float u2 = (float(j) + context.rng.next()) / float(k);
-        const float u3 = (float(m) + context.rng.next()) / float(k);
-        const float cos_theta = 1.0f - 2.0f * u2;
-        const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
-        const float phi = 2.0f * kPi * u3;
-        const glm::vec3 p =
-            centre + r * std::cbrt(u1) * glm::vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
-        if (glm::dot(n, p - y) <= 0.0f) continue;
-        ++above;
-        if (context.visible(y, n, p)) ++seen;
-      }
-    }
+  for (int j = 0; j < count; ++j) {
+    const glm::vec3 u = context.point3(j, count);
+    const float cos_theta = 1.0f - 2.0f * u.y;
+    const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+    const float phi = 2.0f * kPi * u.z;
+    const glm::vec3 p =
+        centre + r * std::cbrt(u.x) * glm::vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
+    if (glm::dot(n, p - y) <= 0.0f) continue;
+    ++above;
+    if (context.visible(y, n, p)) ++seen;
   }
   if (above == 0) return context.visible(y, n, centre) ? unshadowed : glm::vec3(0.0f);
   return unshadowed * (float(seen) / float(above));
@@ -97,18 +100,17 @@ glm::vec3 sun_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sha
   const float angle = light.sun_angle * context.softness;
   const float cos_max = std::cos(0.5f * angle);
   if (angle <= 0.0f) return context.visible_direction(y, n, z) ? unshadowed : glm::vec3(0.0f);
-  const int k = grid_side(context.samples, 2);
+  const int k = grid_side(context.samples, 2), count = k * k;
   int above = 0, seen = 0;
-  for (int i = 0; i < k; ++i) {
-    for (int j = 0; j < k; ++j) {
-      const float cos_theta = 1.0f - (float(i) + context.rng.next()) / float(k) * (1.0f - cos_max);
-      const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
-      const float phi = 2.0f * kPi * (float(j) + context.rng.next()) / float(k);
-      const glm::vec3 dir = glm::normalize(cos_theta * z + sin_theta * (std::cos(phi) * x + std::sin(phi) * w));
-      if (glm::dot(n, dir) <= 0.0f) continue;
-      ++above;
-      if (context.visible_direction(y, n, dir)) ++seen;
-    }
+  for (int j = 0; j < count; ++j) {
+    const glm::vec2 u = context.point2(j, count);
+    const float cos_theta = 1.0f - u.x * (1.0f - cos_max);
+    const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+    const float phi = 2.0f * kPi * u.y;
+    const glm::vec3 dir = glm::normalize(cos_theta * z + sin_theta * (std::cos(phi) * x + std::sin(phi) * w));
+    if (glm::dot(n, dir) <= 0.0f) continue;
+    ++above;
+    if (context.visible_direction(y, n, dir)) ++seen;
   }
   if (above == 0) return context.visible_direction(y, n, z) ? unshadowed : glm::vec3(0.0f);
   return unshadowed * (float(seen) / float(above));
@@ -137,36 +139,53 @@ glm::vec3 area_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, Sh
                   v = glm::make_vec3(light.axis_y) * light.half_size[1];
   const bool rect = light.type == BOUNCE_LIGHT_AREA_RECT;
   glm::vec3 polygon[lambert::MAX_POLYGON], clipped[lambert::MAX_POLYGON];
-  int count = 3;
+  int corner_count = 3;
   if (triangle)
     for (int i = 0; i < 3; ++i) polygon[i] = corners[i] - y;
   else
-    count = lambert::emitter_polygon(c - y, u, v, rect, polygon);
-  const int clipped_count = lambert::clip_to_horizon(polygon, count, n, clipped);
+    corner_count = lambert::emitter_polygon(c - y, u, v, rect, polygon);
+  const int clipped_count = lambert::clip_to_horizon(polygon, corner_count, n, clipped);
   if (clipped_count < 3) return glm::vec3(0.0f);
   const glm::vec3 unshadowed =
       glm::make_vec3(light.intensity) * lambert::polygon_projected_solid_angle(clipped, clipped_count, n);
   if (!light.cast_shadow) return unshadowed;
-  const int k = grid_side(context.samples, 2);
+  const int k = grid_side(context.samples, 2), count = k * k;
   int above = 0, seen = 0;
-  for (int i = 0; i < k; ++i) {
-    for (int j = 0; j < k; ++j) {
-      const float s = (float(i) + context.rng.next()) / float(k);
-      const float t = (float(j) + context.rng.next()) / float(k);
-      glm::vec3 p;
-      if (triangle) {
-        p = c + context.softness * (uniform_triangle_point(corners[0], corners[1], corners[2], {s, t}) - c);
-      } else {
-        const glm::vec2 q = rect ? glm::vec2(2.0f * s - 1.0f, 2.0f * t - 1.0f) : concentric_disk({s, t});
-        p = c + context.softness * (q.x * u + q.y * v);
-      }
-      if (glm::dot(n, p - y) <= 0.0f) continue;
-      ++above;
-      if (context.visible(y, n, p)) ++seen;
+  for (int j = 0; j < count; ++j) {
+    const glm::vec2 st = context.point2(j, count);
+    glm::vec3 p;
+    if (triangle) {
+      p = c + context.softness * (uniform_triangle_point(corners[0], corners[1], corners[2], st) - c);
+    } else {
+      const glm::vec2 q = rect ? 2.0f * st - 1.0f : concentric_disk(st);
+      p = c + context.softness * (q.x * u + q.y * v);
     }
+    if (glm::dot(n, p - y) <= 0.0f) continue;
+    ++above;
+    if (context.visible(y, n, p)) ++seen;
   }
   if (above == 0) return context.visible(y, n, c) ? unshadowed : glm::vec3(0.0f);
   return unshadowed * (float(seen) / float(above));
+}
+
+// The rotation of light `light`'s points: the progression's, else drawn from `rng`.
+glm::vec3 sequence_rotation(const Progression* progression, uint64_t light, Rng& rng) {
+  return progression ? progression->rotation(light) : glm::vec3(rng.next(), rng.next(), rng.next());
+}
+
+glm::vec3 shadowed_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, const ShadowRays& rays,
+                              glm::vec3 rotation, uint32_t sample) {
+  ShadingContext context{rays.bvh, rays.counts, rays.offset, std::max(rays.samples, 1), std::max(rays.softness, 0.0f),
+                         rotation, sample};
+  switch (light.type) {
+    case BOUNCE_LIGHT_POINT:
+    case BOUNCE_LIGHT_SPOT:
+      return point_irradiance(light, y, n, context);
+    case BOUNCE_LIGHT_SUN:
+      return sun_irradiance(light, y, n, context);
+    default:
+      return area_irradiance(light, y, n, context);
+  }
 }
 
 }  // namespace
@@ -181,21 +200,11 @@ float spot_attenuation(const BounceLight& light, glm::vec3 from_light) {
 }
 
 glm::vec3 light_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, const ShadowRays& rays, Rng& rng) {
-  ShadingContext context{rays.bvh, rays.counts, rays.offset, std::max(rays.samples, 1), std::max(rays.softness, 0.0f),
-                         rng};
-  switch (light.type) {
-    case BOUNCE_LIGHT_POINT:
-    case BOUNCE_LIGHT_SPOT:
-      return point_irradiance(light, y, n, context);
-    case BOUNCE_LIGHT_SUN:
-      return sun_irradiance(light, y, n, context);
-    default:
-      return area_irradiance(light, y, n, context);
-  }
+  return shadowed_irradiance(light, y, n, rays, sequence_rotation(nullptr, 0, rng), 0);
 }
 
 glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, glm::vec3 n, const ShadowRays& rays,
-                            Rng& rng, const WorldStrategies* world) {
+                            Rng& rng, const WorldStrategies* world, const Progression* progression) {
   glm::vec3 sum(0.0f);
   const std::size_t first = world ? world->lights.lamp_count() : lights.size(),
                     last = world ? first + world->lights.world_count() : first;
@@ -205,7 +214,8 @@ glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, gl
     return glm::vec2(drawn * pdf, cosine * std::max(glm::dot(n, w), 0.0f) / kPi);
   };
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    const glm::vec3 e = light_irradiance(lights[i], y, n, rays, rng);
+    const glm::vec3 e = shadowed_irradiance(lights[i], y, n, rays, sequence_rotation(progression, i, rng),
+                                            progression ? progression->sample : 0);
     if (i < first || i >= last || cosine == 0.0f || !(e.r + e.g + e.b > 0.0f)) {
       sum += e;
       continue;
@@ -214,9 +224,16 @@ glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, gl
     sum += e * (t.x * t.x / glm::dot(t, t));
   }
   if (cosine == 0.0f) return sum;
-  ShadingContext context{rays.bvh, rays.counts, rays.offset, 1, 0.0f, rng};
+  const ShadingContext context{rays.bvh,
+                               rays.counts,
+                               rays.offset,
+                               1,
+                               0.0f,
+                               sequence_rotation(progression, kCosineDirections, rng),
+                               progression ? progression->sample : 0};
   for (int k = 0; k < world->cosine; ++k) {
-    const glm::vec3 w = cosine_direction(n, rng.next(), rng.next());
+    const glm::vec2 u = context.point2(k, world->cosine);
+    const glm::vec3 w = cosine_direction(n, u.x, u.y);
     const float cos_n = glm::dot(n, w);
     if (!(cos_n > 0.0f)) continue;
     const SceneLights::WorldDensity density = world->lights.world_density(w);

@@ -24,6 +24,22 @@ struct ShadowRays {
   float softness = 1.0f;  // the shadows' light size over the light's own (settings.shadow_softness; 0: hard)
 };
 
+// A pixel's place in its render's samples: the shadow rays of its sample `sample` take the next points of Sobol's
+// sequence (sampling.h), rotated per light by a vector drawn from `key` (the pixel's, the same for all its samples),
+// so that over the samples they cover each light, and the sky, evenly instead of at random: the points of any
+// 2^m samples in a row are stratified, and under a uniform rotation each point is uniform. Without one, a query's
+// points are rotated at random (`rng`) and start from the first.
+struct Progression {
+  uint64_t key;
+  uint32_t sample;
+
+  // The rotation of `item`'s sequence (a light, or another integral of the pixel's).
+  glm::vec3 rotation(uint64_t item) const {
+    Rng drawn(key, 0x524f54ull, item);
+    return {drawn.next(), drawn.next(), drawn.next()};
+  }
+};
+
 // lights.glsl's spot_attenuation: the cone and its smooth edge, toward unit direction `from_light`.
 float spot_attenuation(const BounceLight& light, glm::vec3 from_light);
 
@@ -42,6 +58,6 @@ struct WorldStrategies {
 
 // Summed over the lights; with `world` (whose `lights` made this list), the world's light by both strategies.
 glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, glm::vec3 n, const ShadowRays& rays,
-                            Rng& rng, const WorldStrategies* world = nullptr);
+                            Rng& rng, const WorldStrategies* world = nullptr, const Progression* progression = nullptr);
 
 }  // namespace bounce::cpu

@@ -29,9 +29,10 @@ struct NearField {
   glm::vec3 position{0.0f}, normal{0.0f};  // y's; normal 0 where the ray met nothing
 };
 
-// `lights`: a sample's list; `world` as in direct_irradiance.
+// `lights`: a sample's list; `world` as in direct_irradiance; the ray's direction from x's `progression`.
 NearField near_field(const CpuScene& scene, const Surface& x, std::span<const BounceLight> lights,
-                     const ShadowRays& rays, const WorldStrategies& world, float clamp, Rng& rng);
+                     const ShadowRays& rays, const WorldStrategies& world, float clamp, const Progression& progression,
+                     Rng& rng);
 
 // A pixel's surface, as the camera sees it.
 struct SeenSurface {

@@ -617,9 +617,10 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         const ViewSample& v = view[i];
         if (!v.hit) return;
         Rng rng(seed, kDirectLight, (uint64_t(s) << 40) ^ i);
+        const Progression progression{mix(uint64_t(seed) ^ mix(kDirectLight)) ^ i, uint32_t(s)};
         direct[i] = v.surface.albedo / kPi *
                     direct_irradiance(lights, v.surface.position, v.surface.shading_normal, direct_rays, rng,
-                                      &world_strategies);
+                                      &world_strategies, &progression);
       });
     }
     // Clustered shading (Sec. V.B): view samples grouped by screen tile, exponential depth slice and visibility
@@ -778,7 +779,8 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
           gathered[i] = {float(interleaving.subsets) * irradiance, float(interleaving.subsets) * second_irradiance};
           if (clamp > 0.0f) {
             Rng rng(seed, kNearField, (uint64_t(s) << 40) ^ i);
-            near[i] = near_field(scene_, v.surface, lights, direct_rays, world_strategies, clamp, rng);
+            const Progression progression{mix(uint64_t(seed) ^ mix(kNearField)) ^ i, uint32_t(s)};
+            near[i] = near_field(scene_, v.surface, lights, direct_rays, world_strategies, clamp, progression, rng);
           }
         }
       });

@@ -28,8 +28,9 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
   const cpu::ShadowRays rays{scene.bvh(), scene.ray_offset(), 1, scene.opaque(), context.settings.shadow_softness};
   const cpu::WorldStrategies world{scene_lights, context.settings.world_lights};
   const glm::vec4 *position = nullptr, *normal = nullptr, *albedo = nullptr, *geometric_normal = nullptr;
-  // Sets out[i] to light(x, rng, i) for each covered pixel i, with its surface x and one random stream per image
-  // pixel, sample and `stream`: tiles and the untiled image draw the same rays.
+  // Sets out[i] to light(x, rng, progression, i) for each covered pixel i, with its surface x, one random stream
+  // per image pixel, sample and `stream`, and the pixel's place in the samples: tiles and the untiled image draw
+  // the same rays.
   const auto each_pixel = [&](std::vector<glm::vec4>& out, uint64_t stream, const auto& light) {
     out.assign(pixels, glm::vec4(0.0f));
     if (lights.empty() || scene.triangle_count() == 0) return;
@@ -44,7 +45,8 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
         const uint64_t pixel = (uint64_t(uint32_t(context.tile_origin.y) + uint32_t(row)) << 32) |
                                uint32_t(context.tile_origin.x + int(i - row * std::size_t(width)));
         cpu::Rng rng(context.seed, stream ^ (uint64_t(context.sample) << 8), pixel);
-        out[i] = light(x, rng, i);
+        const cpu::Progression progression{cpu::mix(context.seed ^ cpu::mix(stream)) ^ pixel, context.sample};
+        out[i] = light(x, rng, progression, i);
       }
     });
   };
@@ -67,10 +69,13 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
     normal = texels + pixels;
     albedo = texels + 2 * pixels;
     geometric_normal = texels + 3 * pixels;
-    each_pixel(light_, kTracedDirect, [&](const cpu::Surface& x, cpu::Rng& rng, std::size_t) {
-      return glm::vec4(x.albedo / kPi * cpu::direct_irradiance(lights, x.position, x.shading_normal, rays, rng, &world),
-                       0.0f);
-    });
+    each_pixel(light_, kTracedDirect,
+               [&](const cpu::Surface& x, cpu::Rng& rng, const cpu::Progression& progression, std::size_t) {
+                 return glm::vec4(
+                     x.albedo / kPi *
+                         cpu::direct_irradiance(lights, x.position, x.shading_normal, rays, rng, &world, &progression),
+                     0.0f);
+               });
     glTextureSubImage2D(direct_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, light_.data());
   }
   if (near_field.clamp > 0.0f) {
@@ -85,19 +90,21 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
                  ? std::optional<cpu::SeenSurface>({glm::vec3(position[j]), glm::normalize(glm::vec3(normal[j]))})
                  : std::nullopt;
     };
-    each_pixel(near_light_, kNearField, [&](const cpu::Surface& x, cpu::Rng& rng, std::size_t i) {
-      const cpu::NearField y = cpu::near_field(scene, x, lights, rays, world, near_field.clamp, rng);
-      if (near_field.second_bounce && y.normal != glm::vec3(0.0f)) {
-        const std::optional<std::size_t> j =
-            cpu::first_bounce_pixel(y, i, cpu::image_point(world_to_clip, glm::dvec3(y.position), width, height), width,
-                                    height, near_field.clamp, seen);
-        if (j) {
-          near_reflectance_[i] = glm::vec4(y.reflectance, 0.0f);
-          near_source_[i] = int32_t(*j);
-        }
-      }
-      return glm::vec4(y.irradiance / kPi, 0.0f);
-    });
+    each_pixel(near_light_, kNearField,
+               [&](const cpu::Surface& x, cpu::Rng& rng, const cpu::Progression& progression, std::size_t i) {
+                 const cpu::NearField y =
+                     cpu::near_field(scene, x, lights, rays, world, near_field.clamp, progression, rng);
+                 if (near_field.second_bounce && y.normal != glm::vec3(0.0f)) {
+                   const std::optional<std::size_t> j = cpu::first_bounce_pixel(
+                       y, i, cpu::image_point(world_to_clip, glm::dvec3(y.position), width, height), width, height,
+                       near_field.clamp, seen);
+                   if (j) {
+                     near_reflectance_[i] = glm::vec4(y.reflectance, 0.0f);
+                     near_source_[i] = int32_t(*j);
+                   }
+                 }
+                 return glm::vec4(y.irradiance / kPi, 0.0f);
+               });
     glTextureSubImage2D(near_field_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, near_light_.data());
     if (near_field.second_bounce) {
       glTextureSubImage2D(near_field_reflectance_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT,

@@ -5,9 +5,9 @@
 // standing for r. Samples are stratified against each other (jitter, world directions, and each pixel's shadow
 // and near-field rays spread over the samples: cpu::Progression), so the two halves of a render are not
 // independent: where one half fills the gaps of the other, their difference overstates the noise of the whole.
-// On the sky-occlusion test (tests/native/noise_estimate_test.cpp) the estimate is 1.2 times the noise measured
-// against a converged render at 8 samples and 3.9 times at 32; with independent rays per pixel it was 2 to 4
-// times below.
+// On the sky-occlusion test (tests/native/noise_estimate_test.cpp) the estimate is 2.7 times the noise measured
+// against a converged render at 8 samples and 2.0 times at 32; with independent rays per pixel and the sky's
+// directions shared by all pixels it was 2 to 4 times below.
 #pragma once
 
 #include <vector>

@@ -159,47 +159,53 @@ SceneLights::WorldDensity SceneLights::world_density(glm::vec3 w) const {
   return {float(double(weight(texel.radiance)) / total), texel.radiance};
 }
 
+std::optional<SceneLights::WorldDirection> SceneLights::draw_world(glm::vec2 u) const {
+  const double total = world_cdf_.back();
+  if (world_texels_.empty() || !(total > 0.0) || !std::isfinite(total)) return std::nullopt;
+  // A row (elevation) by u.y from the rows' marginal, then a texel of it by u.x: both coordinates stratify.
+  const std::size_t width = world_width_;
+  const std::vector<double>& row_cdf = world_row_cdf_;
+  const double row_target = double(u.y) * total;
+  const std::size_t row = find_in_cdf(row_cdf, row_target);
+  const double row_weight = row_cdf[row + 1] - row_cdf[row];
+  const double target = row_cdf[row] + double(u.x) * row_weight;
+  const std::size_t t = std::clamp(find_in_cdf(world_cdf_, target), row * width, row * width + width - 1);
+  const WorldTexel& texel = world_texels_[t];
+  const double span = world_cdf_[t + 1] - world_cdf_[t];
+  // The fractions of the targets within the row's and the texel's shares place the direction in the texel.
+  const auto fraction = [](double x, double lo, double size) {
+    return size > 0.0 ? float(std::clamp((x - lo) / size, 0.0, 1.0)) : 0.5f;
+  };
+  const float z = texel.z0 + fraction(row_target, row_cdf[row], row_weight) * (texel.z1 - texel.z0);
+  const float phi_u = texel.u0 + fraction(target, world_cdf_[t], span) * (texel.u1 - texel.u0);
+  const float elevation_v = std::asin(std::clamp(z, -1.0f, 1.0f)) / kPi + 0.5f;
+  const glm::vec3 direction = glm::normalize(environment_to_world_ * equirect_direction({phi_u, elevation_v}));
+  return WorldDirection{direction, texel.radiance, float(double(weight(texel.radiance)) / total)};
+}
+
 void SceneLights::add_world(const BounceSettings& settings, uint32_t sample, uint32_t seed) {
   world_pdfs_.clear();
   const int count = settings.world_lights;
-  const double total = world_cdf_.back();
-  if (count <= 0 || !(total > 0.0) || !std::isfinite(total)) return;
+  if (count <= 0) return;
   const glm::vec2 rotation(hash_to_unit(hash_combine(seed, 201)), hash_to_unit(hash_combine(seed, 202)));
   for (int k = 0; k < count; ++k) {
     // The (sample * count + k)-th point of one R2 sequence: the render's directions stay stratified as a whole.
-    // A row (elevation) by u.y from the rows' marginal, then a texel of it by u.x: both coordinates stratify.
-    const glm::vec2 u = r2_point(sample * uint32_t(count) + uint32_t(k), rotation);
-    const std::size_t width = world_width_;
-    const std::vector<double>& row_cdf = world_row_cdf_;
-    const double row_target = double(u.y) * total;
-    const std::size_t row = find_in_cdf(row_cdf, row_target);
-    const double row_weight = row_cdf[row + 1] - row_cdf[row];
-    const double target = row_cdf[row] + double(u.x) * row_weight;
-    const std::size_t t = std::clamp(find_in_cdf(world_cdf_, target), row * width, row * width + width - 1);
-    const WorldTexel& texel = world_texels_[t];
-    const double span = world_cdf_[t + 1] - world_cdf_[t];
-    // The fractions of the targets within the row's and the texel's shares place the direction in the texel.
-    const auto fraction = [](double x, double lo, double size) {
-      return size > 0.0 ? float(std::clamp((x - lo) / size, 0.0, 1.0)) : 0.5f;
-    };
-    const float z = texel.z0 + fraction(row_target, row_cdf[row], row_weight) * (texel.z1 - texel.z0);
-    const float phi_u = texel.u0 + fraction(target, world_cdf_[t], span) * (texel.u1 - texel.u0);
-    const float elevation_v = std::asin(std::clamp(z, -1.0f, 1.0f)) / kPi + 0.5f;
-    const glm::vec3 direction = glm::normalize(environment_to_world_ * equirect_direction({phi_u, elevation_v}));
-    // Irradiance L / (K p), p = weight(L) / total per steradian.
-    const glm::vec3 irradiance = texel.radiance * float(total / (double(count) * double(weight(texel.radiance))));
+    const std::optional<WorldDirection> drawn = draw_world(r2_point(sample * uint32_t(count) + uint32_t(k), rotation));
+    if (!drawn) return;
+    // Irradiance L / (K p).
+    const glm::vec3 irradiance = drawn->radiance / (float(count) * drawn->pdf);
     BounceLight light{};
     light.type = BOUNCE_LIGHT_SUN;
     light.cast_shadow = 1;
-    const glm::vec3 x = any_perpendicular(direction), y = glm::cross(direction, x);
+    const glm::vec3 x = any_perpendicular(drawn->direction), y = glm::cross(drawn->direction, x);
     for (int i = 0; i < 3; ++i) {
       light.axis_x[i] = x[i];
       light.axis_y[i] = y[i];
-      light.axis_z[i] = direction[i];
+      light.axis_z[i] = drawn->direction[i];
       light.intensity[i] = irradiance[i];
     }
     lights_.push_back(light);
-    world_pdfs_.push_back(float(double(weight(texel.radiance)) / total));
+    world_pdfs_.push_back(drawn->pdf);
   }
 }
 

@@ -5,14 +5,16 @@
 //    radiance x solid angle from a table of the environment, so each carries the same power, and spread over the
 //    samples by one low-discrepancy sequence (the i-th direction of the render is its i-th R2 point). Each is a sun
 //    of irradiance L(w) / (K p(w)): their average over the samples converges to the sky's visibility integral
-//    (the sum over directions of L V cos / p). The ray-traced paths weigh them against directions of their own
-//    per point (cpu/direct_light.h, WorldStrategies), with world_density().
+//    (the sum over directions of L V cos / p). The ray-traced paths draw directions of their own per point
+//    instead, from the same table (draw_world) and cosine-weighted, weighed by world_density()
+//    (cpu/direct_light.h, WorldStrategies).
 //  - emissive surfaces: each triangle with emission is a two-sided triangle light of its radiance, shaded by
 //    Lambert's formula (exact unshadowed irradiance); when there are more than `emission_lights`, that many are
 //    drawn each sample in proportion to their power (systematic sampling), each of radiance L / (K p).
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -73,6 +75,13 @@ class SceneLights {
     glm::vec3 radiance;
   };
   WorldDensity world_density(glm::vec3 w) const;
+  // The world direction that u in [0,1)^2 draws from the table (as the sample's world directions are drawn), the
+  // radiance it carries and its density per steradian; none without a world that lights.
+  struct WorldDirection {
+    glm::vec3 direction, radiance;
+    float pdf;
+  };
+  std::optional<WorldDirection> draw_world(glm::vec2 u) const;
 
  private:
   struct Emitter {

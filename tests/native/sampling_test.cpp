@@ -24,23 +24,32 @@ TEST(Sampling, R2StartsAtTheCentreAndStaysInTheUnitSquare) {
 }
 
 // Any 2^m points from a multiple of 2^m fill each of the 2^m intervals of each of the first two coordinates once,
-// and every 2^(3m) of the three dimensions fill each of the (2^m)^3 cells once; rotated, they stay in [0,1).
+// and every 2^(2m) points each of the (2^m)^2 cells of those two; 64 points fill each of the 4^3 cells of all
+// three. Scrambled or not, and always in [0,1).
 TEST(Sampling, SobolPointsAreStratifiedAndStayInTheUnitCube) {
-  for (uint32_t first : {0u, 16u, 4096u})
-    for (int dimension = 0; dimension < 3; ++dimension) {
-      std::vector<int> hits(16, 0);
-      for (uint32_t i = first; i < first + 16; ++i)
-        ++hits[std::size_t(sobol_point(i, glm::vec3(0.0f))[dimension] * 16)];
-      for (int h : hits) EXPECT_EQ(h, 1) << "points " << first << "+, dimension " << dimension;
+  for (const glm::uvec3& scramble : {glm::uvec3(0u), glm::uvec3(0x9e3779b9u, 0x7f4a7c15u, 0xdeadbeefu)}) {
+    for (uint32_t first : {0u, 16u, 4096u}) {
+      for (int dimension = 0; dimension < 3; ++dimension) {
+        std::vector<int> hits(16, 0);
+        for (uint32_t i = first; i < first + 16; ++i) ++hits[std::size_t(sobol_point(i, scramble)[dimension] * 16)];
+        for (int h : hits) EXPECT_EQ(h, 1) << "points " << first << "+, dimension " << dimension;
+      }
+      std::vector<int> squares(16, 0);
+      for (uint32_t i = first; i < first + 16; ++i) {
+        const glm::ivec2 c(sobol_point(i, glm::uvec2(scramble)) * 4.0f);
+        ++squares[std::size_t(c.x * 4 + c.y)];
+      }
+      for (int h : squares) EXPECT_EQ(h, 1) << "points " << first << "+";
     }
-  std::vector<int> cells(64, 0);
-  for (uint32_t i = 0; i < 64; ++i) {
-    const glm::ivec3 c(sobol_point(i, glm::vec3(0.0f)) * 4.0f);
-    ++cells[std::size_t(c.x * 16 + c.y * 4 + c.z)];
+    std::vector<int> cells(64, 0);
+    for (uint32_t i = 0; i < 64; ++i) {
+      const glm::ivec3 c(sobol_point(i, scramble) * 4.0f);
+      ++cells[std::size_t(c.x * 16 + c.y * 4 + c.z)];
+    }
+    for (int h : cells) EXPECT_EQ(h, 1);
   }
-  for (int h : cells) EXPECT_EQ(h, 1);
   for (uint32_t i = 0; i < 1000; ++i) {
-    const glm::vec3 p = sobol_point(i, glm::vec3(0.3f, 0.9f, 0.99999994f));
+    const glm::vec3 p = sobol_point(i, glm::uvec3(i * 0x9e3779b9u, ~i, 0xffffffffu));
     for (int d = 0; d < 3; ++d) {
       EXPECT_GE(p[d], 0.0f);
       EXPECT_LT(p[d], 1.0f);

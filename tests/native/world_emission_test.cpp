@@ -152,8 +152,8 @@ TEST_F(WorldAndEmission, WellFloorSeesTheSkyThroughItsOpening) {
 
 // At the bottom of a well three times as deep as it is wide, a world direction drawn for the whole image finds the
 // opening with a chance of about 1 in 50: the sample's four shared directions usually miss it and leave the floor
-// black. The ray-traced paths add cosine-weighted directions per point (direct_light.h, WorldStrategies), so one
-// sample already has the floor's mean light, whatever the seed.
+// black. The ray-traced paths draw directions per point, from the world's table and cosine-weighted
+// (direct_light.h, WorldStrategies), so one sample already has the floor's mean light, whatever the seed.
 TEST_F(WorldAndEmission, DeepWellFloorIsLitFromTheFirstSample) {
   const float h = 3.0f;
   build_well(h);
@@ -165,14 +165,22 @@ TEST_F(WorldAndEmission, DeepWellFloorIsLitFromTheFirstSample) {
       const glm::vec3 p = pixel_world(x, y, 0.5f, 32);
       want += kAlbedo * rectangle_view_factor(p.x, p.y, -0.5, 0.5, -0.5, 0.5, h) / (32.0 * 32.0);
     }
-  for (int method : {BOUNCE_METHOD_DIRECT, BOUNCE_METHOD_TOPOLOGY})
-    for (int seed = 1; seed <= 4; ++seed) {
+  // Each point draws its own directions, so one sample's mean varies from seed to seed by the noise of its pixels
+  // (standard deviation 6.5 % and 8.7 % over 64 seeds, means 0.998 and 0.990): no seed leaves the floor dark, and
+  // 16 seeds average within a few percent.
+  for (int method : {BOUNCE_METHOD_DIRECT, BOUNCE_METHOD_TOPOLOGY}) {
+    double sum = 0.0;
+    constexpr int kSeeds = 16;
+    for (int seed = 1; seed <= kSeeds; ++seed) {
       settings_.method = method;
       settings_.seed = seed;
       const Image image = render(BOUNCE_AOV_DIRECT);
       ASSERT_TRUE(all_finite(image));
-      EXPECT_NEAR(mean_red(image) / want, 1.0, 0.15) << "method " << method << ", seed " << seed;
+      EXPECT_NEAR(mean_red(image) / want, 1.0, 0.3) << "method " << method << ", seed " << seed;
+      sum += mean_red(image) / want;
     }
+    EXPECT_NEAR(sum / kSeeds, 1.0, 0.08) << "method " << method;
+  }
 }
 
 TEST_F(WorldAndEmission, SquareEmitterLightsThePlaneBelowByItsViewFactor) {

@@ -25,18 +25,18 @@ struct ShadowRays {
 };
 
 // A pixel's place in its render's samples: the shadow rays of its sample `sample` take the next points of Sobol's
-// sequence (sampling.h), rotated per light by a vector drawn from `key` (the pixel's, the same for all its samples),
+// sequence (sampling.h), scrambled per light by seeds drawn from `key` (the pixel's, the same for all its samples),
 // so that over the samples they cover each light, and the sky, evenly instead of at random: the points of any
-// 2^m samples in a row are stratified, and under a uniform rotation each point is uniform. Without one, a query's
-// points are rotated at random (`rng`) and start from the first.
+// 2^m samples in a row are stratified, and each point is uniform. Without one, a query's points are scrambled at
+// random (`rng`) and start from the first.
 struct Progression {
   uint64_t key;
   uint32_t sample;
 
-  // The rotation of `item`'s sequence (a light, or another integral of the pixel's).
-  glm::vec3 rotation(uint64_t item) const {
-    Rng drawn(key, 0x524f54ull, item);
-    return {drawn.next(), drawn.next(), drawn.next()};
+  // The scramble of `item`'s sequence (a light, or another integral of the pixel's).
+  glm::uvec3 scramble(uint64_t item) const {
+    Rng drawn(key, 0x5343524dull, item);
+    return {drawn.next_bits(), drawn.next_bits(), drawn.next_bits()};
   }
 };
 
@@ -45,18 +45,20 @@ float spot_attenuation(const BounceLight& light, glm::vec3 from_light);
 
 // Shadowed direct irradiance (W/m^2, per channel) at y on the side of unit normal n from one light.
 glm::vec3 light_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, const ShadowRays& rays, Rng& rng);
-// The world's directions in a sample's list of lights as one strategy of multiple importance sampling, against
-// `cosine` directions per point drawn in proportion to cos / pi (Veach's power heuristic: each direction's light
-// is weighted by its strategy's (K p)^2 over (K p(w))^2 + (K_c cos / pi)^2, so the sum stays unbiased, and the
-// strategy far likelier to draw a direction carries nearly all of its light).
-// The shared directions go where the environment is bright, which a point in an atrium seldom sees; its own
+// The world's light at a point by two strategies of multiple importance sampling: as many directions as the
+// sample's list of lights holds for the world, drawn for the point alone from the world's table (draw_world: in
+// proportion to radiance x solid angle), against `cosine` directions drawn in proportion to cos / pi (Veach's power
+// heuristic: each direction's light is weighted by its strategy's (K p)^2 over (K p(w))^2 + (K_c cos / pi)^2, so
+// the sum stays unbiased, and the strategy far likelier to draw a direction carries nearly all of its light).
+// The table's directions go where the environment is bright, which a point in an atrium seldom sees; its
 // cosine-weighted directions find the sky through the opening.
 struct WorldStrategies {
-  const SceneLights& lights;  // whose sample() made the list of lights: its world's directions and their densities
+  const SceneLights& lights;  // whose sample() made the list of lights: its world's table and directions' count
   int cosine;                 // cosine-weighted directions per point
 };
 
-// Summed over the lights; with `world` (whose `lights` made this list), the world's light by both strategies.
+// Summed over the lights; with `world` (whose `lights` made this list), the world's light by both strategies
+// instead of the list's world directions.
 glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, glm::vec3 n, const ShadowRays& rays,
                             Rng& rng, const WorldStrategies* world = nullptr, const Progression* progression = nullptr);
 

@@ -18,9 +18,10 @@ inline uint64_t mix(uint64_t x) {
 class Rng {
  public:
   Rng(uint64_t seed, uint64_t purpose, uint64_t item) : state_(mix(mix(seed ^ mix(purpose)) ^ item)) {}
-  float next() {
+  float next() { return static_cast<float>(next_bits() >> 8) * 0x1p-24f; }  // [0, 1)
+  uint32_t next_bits() {
     state_ += 0x9E3779B97F4A7C15ull;
-    return static_cast<float>(mix(state_) >> 40) * 0x1p-24f;  // [0, 1)
+    return static_cast<uint32_t>(mix(state_) >> 32);
   }
 
  private:

@@ -169,7 +169,9 @@ std::optional<SceneLights::WorldDirection> SceneLights::draw_world(glm::vec2 u) 
   const std::size_t row = find_in_cdf(row_cdf, row_target);
   const double row_weight = row_cdf[row + 1] - row_cdf[row];
   const double target = row_cdf[row] + double(u.x) * row_weight;
-  const std::size_t t = std::clamp(find_in_cdf(world_cdf_, target), row * width, row * width + width - 1);
+  // Searched within the row's own width + 1 entries (a search per direction and point on the ray-traced paths).
+  const std::size_t t =
+      row * width + find_in_cdf(std::span<const double>(world_cdf_).subspan(row * width, width + 1), target);
   const WorldTexel& texel = world_texels_[t];
   const double span = world_cdf_[t + 1] - world_cdf_[t];
   // The fractions of the targets within the row's and the texel's shares place the direction in the texel.

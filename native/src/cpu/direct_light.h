@@ -18,8 +18,8 @@ namespace bounce::cpu {
 struct ShadowRays {
   const embree::Scene& bvh;
   float offset;  // rays start this far off the surface, along its normal
-  int samples;   // per light and point: a k^2 grid (area, sun) or k^3 grid (soft point, spot ball) with k the
-                 // smallest giving at least this many, jittered; hard lights use 1
+  int samples;   // per light and point: k^2 (area, sun) or k^3 (soft point, spot ball) points of the light's
+                 // Sobol sequence, with k the smallest giving at least this many; hard lights use 1
   embree::Scene::HitFilter counts = {};  // which hits block (CpuScene::opaque: not where cut-outs have holes)
   float softness = 1.0f;  // the shadows' light size over the light's own (settings.shadow_softness; 0: hard)
 };

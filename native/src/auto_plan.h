@@ -30,12 +30,12 @@ double bounce_bias(const BounceSettings& settings);
 // simulates by its error weight times the method's bias class.
 double accepted_bias(const BounceSettings& settings, const cpu::SceneAnalysis& analysis);
 
-// An effect (a light source class, a bounce) whose estimated share of the image is below settings.auto_threshold
-// is not simulated: a source class by drawing none of its lights (World Directions or Emissive Triangles 0, and
-// so none of its bounces), a bounce by the method's bounce count, or by no indirect method at all. With a
-// budget, what remains is fitted to it with `costs` (for `pixels` pixels): the first-bounce VPL count that fills
-// it, else one bounce fewer, down to direct light; a plan whose cost is not measured yet renders as it is, and
-// its frame teaches the model.
+// An effect (a light source class, a bounce) whose estimated share of the image is below settings.auto_threshold,
+// in the mean and pixel by pixel (the root of its error weight), is not simulated: a source class by drawing none of
+// its lights (World Directions or Emissive Triangles 0, and so none of its bounces), a bounce by the method's bounce
+// count, or by no indirect method at all. With a budget, what remains is fitted to it with `costs` (for `pixels`
+// pixels): the first-bounce VPL count that fills it, else one bounce fewer, down to direct light; a plan whose cost is
+// not measured yet renders as it is, and its frame teaches the model.
 AutoPlan plan_auto(const BounceSettings& settings, const cpu::SceneAnalysis& analysis, const CostModel& costs,
                    int64_t pixels);
 

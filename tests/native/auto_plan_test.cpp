@@ -288,6 +288,40 @@ TEST(CostModel, PlanFitsTheBudget) {
   EXPECT_NE(plan.summary.find("bounces dropped (55 ms), direct light 40 ms."), std::string::npos) << plan.summary;
 }
 
+// An effect below the threshold in the image's mean but not pixel by pixel (the root of its error weight) is
+// simulated: a second bounce of 0.8 % of the mean that gives 1.6 % pixel by pixel (where the direct light is in
+// shadow), and a world of 0.5 % that gives 2 %. Below in both, the same bounce is skipped.
+TEST(AutoPlanShares, AnEffectIsSkippedOnlyWhereItIsBelowPixelByPixel) {
+  cpu::SceneAnalysis analysis{};
+  analysis.direct[0] = 1.0;
+  analysis.direct[1] = 0.005;
+  analysis.first_bounce[0] = 0.06;
+  analysis.second_bounce = 0.009;
+  analysis.error_weight_first = 0.01;
+  analysis.error_weight_second = 0.016 * 0.016;
+  analysis.error_weight_source[1] = 0.02 * 0.02;
+  BounceSettings settings{};
+  settings.method = BOUNCE_METHOD_AUTO;
+  settings.auto_threshold = 0.01f;
+  settings.bounces = 2;
+  settings.world_lights = 16;
+  auto plan = plan_auto(settings, analysis, CostModel{}, 1);
+  EXPECT_EQ(plan.settings.method, BOUNCE_METHOD_TOPOLOGY);
+  EXPECT_EQ(plan.settings.bounces, 2);
+  EXPECT_EQ(plan.settings.world_lights, 16);
+  EXPECT_NE(plan.summary.find("Lamps 100 %, world 0.5 % (2.0 % pixel by pixel) of the light. First bounce 5.6 % and "
+                              "second 0.8 % (1.6 % pixel by pixel)"),
+            std::string::npos)
+      << plan.summary;
+
+  analysis.error_weight_second = 0.009 * 0.009;
+  analysis.error_weight_source[1] = 0.005 * 0.005;
+  plan = plan_auto(settings, analysis, CostModel{}, 1);
+  EXPECT_EQ(plan.settings.bounces, 1);
+  EXPECT_EQ(plan.settings.world_lights, 0);
+  EXPECT_NE(plan.summary.find("Second bounce 0.8 %: skipped (below 1.0 %)"), std::string::npos) << plan.summary;
+}
+
 // Through the engine: a frame under a budget is measured (if none of its plan was before), the next fits it.
 TEST_F(AutoPlan, SecondFrameFitsTheBudget) {
   build_furnace();

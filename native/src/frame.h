@@ -25,11 +25,6 @@ inline uint32_t method_aovs(int32_t method) {
   return aovs;
 }
 
-// The AOVs of a GPU render's partial frames (those published before its last): what a progressive display shows
-// and the noise estimate reads. Reading every AOV back at each publish cost 45-95 ms a sample at 1280x720 on an
-// NVIDIA H100, a third of the frame.
-constexpr uint32_t kPartialFrameAovs = 1u << BOUNCE_AOV_COMBINED;
-
 struct Frame {
   int width = 0, height = 0;
   uint32_t held = 0;  // bits 1 << aov of the AOVs allocated (method_aovs)
@@ -50,8 +45,8 @@ struct Frame {
       if (holds(aov)) aovs[aov].assign(std::size_t(w) * h * bounce_aov_channels(aov), 0.0f);
   }
   bool holds(int aov) const { return (held >> aov) & 1u; }
-  // Frees every AOV but those of `aov_bits`: a partial frame holds Combined alone once Ray Checks' clamp has read its
-  // Indirect pass.
+  // Frees every AOV but those of `aov_bits`: a partial frame holds what the noise estimate reads once Ray Checks' clamp
+  // has read its Indirect pass.
   void keep(uint32_t aov_bits) {
     for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov)
       if (!((aov_bits >> aov) & 1u)) std::vector<float>().swap(aovs[aov]);

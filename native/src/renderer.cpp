@@ -323,11 +323,12 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       auto partial = std::make_shared<Frame>();
       // Ray Checks' clamp needs the Indirect pass.
       const uint32_t clamped = plan.ray_checks > 0.0f ? aov_bits & (1u << BOUNCE_AOV_INDIRECT) : 0u;
-      partial->allocate(frame->width, frame->height, aov_bits & (kPartialFrameAovs | clamped));
+      const uint32_t read_back = schedule.partial_aovs(s + 1);
+      partial->allocate(frame->width, frame->height, aov_bits & (read_back | clamped));
       read_frame(*partial, s + 1);
       if (plan.ray_checks > 0.0f) {
         partial->clamp_negative_indirect();
-        partial->keep(kPartialFrameAovs);
+        partial->keep(read_back);
       }
       partial->info.nonfinite_pixels = partial->zero_nonfinite();
       if (schedule.published(*partial, s + 1)) {  // meets Noise Target: the render's last frame, every AOV read below

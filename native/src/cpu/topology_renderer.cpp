@@ -43,6 +43,13 @@ struct ViewSample {
   bool hit = false;
 };
 
+// A light whose visibility at a pixel the clusters and gates decided (not a shadow ray), for Ray Checks.
+struct RuledPair {
+  uint32_t vpl;
+  glm::vec3 irradiance;  // unshadowed
+  float share;           // the rule's verdict
+};
+
 bool in_gate_cone(glm::vec3 p, const topology::Gate& gate, glm::vec3 x) {
   return topology::shared::in_gate_cone(p, gate.centre, gate.normal, gate.axis_u, gate.half_u, gate.half_v, x);
 }
@@ -693,6 +700,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
     {
       StageScope scope(timer, Stage::TopologyIndirect);
       parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
+        std::vector<RuledPair> ruled;  // a pixel's lights the rule gave a verdict, for its checks
         for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {
           const ViewSample& v = view[i];
           gathered[i] = {};
@@ -742,12 +750,13 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
               Rng rng(seed, kRayChecks, (uint64_t(s) << 40) ^ i);
               first_check = subset + interleaving.subsets * std::size_t(rng.next() * float(check_every));
             }
-            const auto check = [&](const Vpl& vpl, glm::vec3 e, float rule) {
+            const auto check = [&](const Vpl& vpl, glm::vec3 e, float rule, float weight) {
               const float seen = blocked(vpl) ? 0.0f : 1.0f;
-              if (seen != rule) add(vpl, float(check_every) * (seen - rule) * e);
+              if (seen != rule) add(vpl, weight * (seen - rule) * e);
             };
             const std::span<const Assignment> subset_lights = group.of_subset(subset);
-            std::size_t next_check = first_check;
+            ruled.clear();
+            float rule_light = 0.0f;
             for (const Assignment& a : subset_lights) {
               const Vpl& vpl = vpls_[a.vpl];
               const glm::vec3 e = vpl_irradiance(vpl, x, n, clamp);
@@ -756,15 +765,29 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
               const Verdict rule =
                   verdict(a.vpl, a.test, std::span(group.gates).subspan(a.first_gate, a.first_gates), a.near_emitter);
               if (rule.share > 0.0f) add(vpl, rule.share * e);
-              while (next_check < a.vpl) next_check += stride;
-              if (next_check == a.vpl && !rule.by_ray) check(vpl, e, rule.share);
+              rule_light += rule.share * (e.r + e.g + e.b);
+              if (!rule.by_ray) ruled.push_back({a.vpl, e, rule.share});
+            }
+            // A light whose correction, taken check_every times, would outweigh all the light the rule gives the
+            // pixel is checked every sample, once: Sponza's gallery had one VPL the rule kept out 1.2 m from a
+            // pixel, and its 16-fold correction alone was 15 times the pixel's converged light. Which lights are
+            // checked so depends on the rule's verdicts alone, not on the checks, so the expectation stays the
+            // shadow rays'.
+            std::size_t next_check = first_check;
+            for (const RuledPair& pair : ruled) {
+              while (next_check < pair.vpl) next_check += stride;
+              const float light = pair.irradiance.r + pair.irradiance.g + pair.irradiance.b;
+              if (float(check_every) * light >= rule_light)
+                check(vpls_[pair.vpl], pair.irradiance, pair.share, 1.0f);
+              else if (next_check == pair.vpl)
+                check(vpls_[pair.vpl], pair.irradiance, pair.share, float(check_every));
             }
             auto assigned_light = subset_lights.begin();
             for (std::size_t l = first_check; l < vpls_.size(); l += stride) {
               while (assigned_light != subset_lights.end() && assigned_light->vpl < l) ++assigned_light;
               if (assigned_light != subset_lights.end() && assigned_light->vpl == l) continue;  // checked above
               const glm::vec3 e = vpl_irradiance(vpls_[l], x, n, clamp);
-              if (e.r + e.g + e.b > 0.0f) check(vpls_[l], e, 0.0f);
+              if (e.r + e.g + e.b > 0.0f) check(vpls_[l], e, 0.0f, float(check_every));
             }
           } else {
             const bool shadow_rays = settings.topology_visibility == 1;

@@ -181,12 +181,15 @@ def method_text(info, indirect):
     return "".join(f" | {text}" for text in (auto_line(info) if info.plan() else "", indirect) if text)
 
 
-def error_forecast(noise_relmse, bias_relmse, samples, seconds, factors=(1, 2, 4, 8)):
-    """[(samples, seconds, relMSE), ...] for `factors` times the samples of a render whose noise was estimated at
-    `noise_relmse` (native/src/noise_estimate.h) and whose settings accept `bias_relmse` (below 0: unknown,
-    counted as none): noise falls as 1 / samples, the bias stays, time grows with the samples."""
-    bias = max(bias_relmse, 0.0)
-    return [(samples * k, seconds * k, noise_relmse / k + bias) for k in factors]
+def error_forecast(info, seconds, factors=(1, 2, 4, 8)):
+    """[(samples, seconds, relMSE), ...] for `factors` times the samples of a render of `seconds` whose frame info
+    `info` holds its estimated noise (native/src/noise_estimate.h) and the bias its settings accept (below 0:
+    unknown, counted as none): the Direct pass's noise falls as samples^-rate (its rays are stratified over each
+    pixel's samples), the rest as 1 / samples, the bias stays, time grows with the samples."""
+    bias = max(info.bias_relmse, 0.0)
+    direct = min(max(info.noise_direct_relmse, 0.0), info.noise_relmse)
+    rest = info.noise_relmse - direct
+    return [(info.samples * k, seconds * k, rest / k + direct / k ** info.noise_direct_rate + bias) for k in factors]
 
 
 def error_line(forecast, bias_relmse):
@@ -224,6 +227,6 @@ def _summarize(engine, kind, info, scene_stats, sync_stats, render_seconds):
         lights=scene_stats.light_count, skipped_lights=scene_stats.skipped_lights,
         meshes=scene_stats.mesh_count, instances=scene_stats.instance_count, gpu_bytes=scene_stats.gpu_bytes,
         indirect=indirect, plan=info.plan(), analysis_ms=info.shares.analysis_ms,
-        error=(error_forecast(info.noise_relmse, info.bias_relmse, info.samples, render_seconds)
+        error=(error_forecast(info, render_seconds)
                if info.noise_relmse >= 0.0 else None),
         noise_relmse=info.noise_relmse, bias_relmse=info.bias_relmse)

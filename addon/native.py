@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 12  # BOUNCE_API_VERSION this module was written against
+API_VERSION = 13  # BOUNCE_API_VERSION this module was written against
 
 LIBRARY_ENV = "BOUNCE_LIBRARY"
 LIBRARY_NAME = "libbounce.so"
@@ -268,7 +268,8 @@ class FrameInfo(ctypes.Structure):
                 ("bounces", _i32),
                 ("plan_text", ctypes.c_char * 512),
                 ("shares", LightShares),
-                ("noise_relmse", _f32), ("bias_relmse", _f32),
+                ("noise_relmse", _f32), ("noise_direct_relmse", _f32), ("noise_direct_rate", _f32),
+                ("bias_relmse", _f32),
                 ("aovs", _u32)]
 
     def plan(self):

@@ -32,7 +32,8 @@ struct Frame {
   BounceFrameInfo info = [] {
     BounceFrameInfo unknown_error{};
     unknown_error.noise_relmse = -1.0f;  // until a render estimates it
-    unknown_error.bias_relmse = -1.0f;   // until the renderer weighs the frame's settings
+    unknown_error.noise_direct_rate = 1.0f;
+    unknown_error.bias_relmse = -1.0f;  // until the renderer weighs the frame's settings
     return unknown_error;
   }();
 

@@ -25,6 +25,13 @@ namespace bounce {
 
 class NoiseEstimate {
  public:
+  // As relMSE (BounceFrameInfo's noise fields): the whole, and the Direct pass's part with its rate.
+  struct Noise {
+    float relmse = -1.0f;  // -1: unknown
+    float direct_relmse = 0.0f;
+    float direct_rate = 1.0f;
+  };
+
   // The frames a render publishes whatever its publishing interval, and the only ones the estimate keeps: after
   // 1, 2, 4, 8, ... samples (where Noise Target is checked, each against the one before, and which a render that
   // Time Limit stops early is estimated against) and half-way through (against which a render of all its samples
@@ -49,11 +56,11 @@ class NoiseEstimate {
       kept_ = {partial.aovs[BOUNCE_AOV_COMBINED], partial.aovs[BOUNCE_AOV_DIRECT], samples_done,
                at_checkpoint.measured_rate};
     }
-    return target > 0.0f && checkpoint_noise_ >= 0.0f && checkpoint_noise_ <= target;
+    return target > 0.0f && checkpoint_noise_.relmse >= 0.0f && checkpoint_noise_.relmse <= target;
   }
   // The noise of a render's last frame: against the frames kept last, or where the render stopped at a checkpoint
   // (Noise Target), that checkpoint's estimate.
-  float final_relmse(const Frame& frame, int samples_done) const {
+  Noise final_noise(const Frame& frame, int samples_done) const {
     return samples_done == checkpoint_samples_ ? checkpoint_noise_ : estimate(frame, samples_done).noise;
   }
 
@@ -81,7 +88,7 @@ class NoiseEstimate {
     double rate = 0.0;  // the direct light's a measured when the frame arrived; 0 where none was
   };
   struct Estimate {
-    float noise = -1.0f;
+    Noise noise;
     double measured_rate = 0.0;  // 0 where the frames gave none
   };
 
@@ -119,12 +126,13 @@ class NoiseEstimate {
         rate_known ? convergence_rate(direct_before / direct_after, earlier_.samples, kept_.samples, samples_done)
                    : 0.0;
     const double rate = measured > 0.0 ? (kept_.rate > 0.0 ? 0.5 * (measured + kept_.rate) : measured) : 1.0;
-    const double noise = direct_after / (std::pow(later, rate) - 1.0) + rest_after / (later - 1.0);
-    return {float(noise / double(3 * pixels)), measured};
+    const double values = double(3 * pixels);
+    const double direct = direct_after / (std::pow(later, rate) - 1.0) / values;
+    return {{float(direct + rest_after / (later - 1.0) / values), float(direct), float(rate)}, measured};
   }
 
   Kept earlier_, kept_;  // the last two checkpoints up to half-way, the later one kept_
-  float checkpoint_noise_ = -1.0f;
+  Noise checkpoint_noise_;
   int checkpoint_samples_ = 0;
 };
 

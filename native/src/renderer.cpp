@@ -346,7 +346,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   if (plan.ray_checks > 0.0f) frame->clamp_negative_indirect();
   finish_info(*frame, samples_done);
   frame->info.nonfinite_pixels = frame->zero_nonfinite();
-  frame->info.noise_relmse = schedule.noise_relmse(*frame, samples_done);
+  schedule.fill_noise(*frame, samples_done);
   callbacks.publish(frame);
   return true;
 }

@@ -35,8 +35,13 @@ class SampleSchedule {
     last_publish_ = Clock::now();
     return noise_.add_partial(partial, samples_done, samples_, noise_target_);
   }
-  // The estimated noise of the render's last frame (NoiseEstimate::final_relmse).
-  float noise_relmse(const Frame& frame, int samples_done) const { return noise_.final_relmse(frame, samples_done); }
+  // Fills in the estimated noise of the render's last frame (NoiseEstimate::final_noise).
+  void fill_noise(Frame& frame, int samples_done) const {
+    const NoiseEstimate::Noise noise = noise_.final_noise(frame, samples_done);
+    frame.info.noise_relmse = noise.relmse;
+    frame.info.noise_direct_relmse = noise.direct_relmse;
+    frame.info.noise_direct_rate = noise.direct_rate;
+  }
 
  private:
   using Clock = std::chrono::steady_clock;

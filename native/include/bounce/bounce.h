@@ -33,7 +33,7 @@ extern "C" {
 #define BOUNCE_API __attribute__((visibility("default")))
 #endif
 
-#define BOUNCE_API_VERSION 12
+#define BOUNCE_API_VERSION 13
 
 typedef enum BounceStatus {
   BOUNCE_OK = 0,
@@ -349,6 +349,11 @@ typedef struct BounceFrameInfo {
                                    (x - r)^2 / (r^2 + 0.01) over the RGB values of Combined, r the converged image):
                                    native/src/noise_estimate.h; -1 where unknown (one sample, or tiles that take
                                    turns: the tile_size setting) */
+  float noise_direct_relmse;    /* the part of noise_relmse in the Direct pass, whose rays are stratified over each
+                                   pixel's samples: it falls as samples^-noise_direct_rate, the rest as 1 / samples;
+                                   0 where the frames did not hold the Direct pass */
+  float noise_direct_rate;      /* that rate, measured from the Direct pass of three checkpoints: 1 to 3; 1 where
+                                   unknown */
   float bias_relmse;            /* the error its settings accept in the same measure, which more samples do not
                                    remove: what they leave out, and the method's bias class on what it simulates
                                    (native/src/auto_plan.h); AUTO's plan always, an explicit method where it has
@@ -356,8 +361,8 @@ typedef struct BounceFrameInfo {
                                    VPL Importance: the defaults); -1 otherwise */
   uint32_t aovs;                /* the AOVs the frame holds, as bits 1 << aov: a render's last frame every AOV of
                                    its method (bounce_method_aovs); the partial frames before it Combined alone,
-                                   which is what a progressive display shows, unless the method computes every AOV
-                                   on the CPU (TOPOLOGY) */
+                                   which is what a progressive display shows, and Direct at the noise estimate's
+                                   checkpoints, unless the method computes every AOV on the CPU (TOPOLOGY) */
 } BounceFrameInfo;
 
 /* The most recently published frame: after each progressive sample of a render (viewport) and at its end.

@@ -876,13 +876,13 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       std::shared_ptr<Frame> partial = make_frame(s + 1);
       const bool noise_reached = schedule.published(*partial, s + 1);
       // The frame that meets Noise Target is the render's last: it is not made a second time.
-      if (noise_reached) partial->info.noise_relmse = schedule.noise_relmse(*partial, s + 1);
+      if (noise_reached) schedule.fill_noise(*partial, s + 1);
       callbacks.publish(std::move(partial));
       if (noise_reached) return true;
     }
   }
   std::shared_ptr<Frame> frame = make_frame(samples_done);
-  frame->info.noise_relmse = schedule.noise_relmse(*frame, samples_done);
+  schedule.fill_noise(*frame, samples_done);
   callbacks.publish(std::move(frame));
   return true;
 }

@@ -193,12 +193,10 @@ AutoPlan plan_auto(const BounceSettings& settings, const cpu::SceneAnalysis& ana
     const EffectShare share(analysis.share(analysis.direct[c] + analysis.first_bounce[c] + second),
                             analysis.error_weight_source[c]);
     if (!(share.mean > 0.0)) continue;
-    if (!share.below(threshold) || !source_lights[c]) {
-      lit.push_back((lit.empty() ? kSourceNames[c] : kSourceLowerNames[c]) + (" " + share.words(threshold)));
-    } else {
-      *source_lights[c] = 0;
-      skipped.push_back((skipped.empty() ? kSourceNames[c] : kSourceLowerNames[c]) + (" " + share.words(threshold)));
-    }
+    const bool kept = !share.below(threshold) || !source_lights[c];
+    if (!kept) *source_lights[c] = 0;
+    std::vector<std::string>& list = kept ? lit : skipped;
+    list.push_back((list.empty() ? kSourceNames[c] : kSourceLowerNames[c]) + (" " + share.words(threshold)));
   }
   std::vector<std::string> sentences;
   if (!lit.empty()) sentences.push_back(join(lit, ", ") + " of the light");

@@ -53,6 +53,7 @@ class NoiseEstimate {
     checkpoint_samples_ = samples_done;
     if (samples_done <= samples / 2) {
       earlier_ = std::move(kept_);
+      std::vector<float>().swap(earlier_.combined);  // of the earlier frame, only the Direct pass is read
       kept_ = {partial.aovs[BOUNCE_AOV_COMBINED], partial.aovs[BOUNCE_AOV_DIRECT], samples_done,
                at_checkpoint.measured_rate};
     }
@@ -83,7 +84,7 @@ class NoiseEstimate {
 
  private:
   struct Kept {
-    std::vector<float> combined, direct;  // direct empty where the frame did not hold it
+    std::vector<float> combined, direct;  // direct empty where the frame did not hold it, combined once earlier
     int samples = 0;
     double rate = 0.0;  // the direct light's a measured when the frame arrived; 0 where none was
   };

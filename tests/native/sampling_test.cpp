@@ -6,6 +6,7 @@
 
 #include "cpu/vpls.h"
 #include "passes/shadows/shadow_pass.h"
+#include "radiometry.h"
 #include "renderer.h"
 #include "sampling.h"
 
@@ -157,6 +158,95 @@ TEST(EmissionGuide, DrawsWithTheDensityItReports) {
   // 5/6 of the learned share, 3/4 of all, plus the uniform share's 1/4 of one cell.
   const double expected = 0.75 * 5.0 / 6.0 + 0.25 / (cells * cells);
   EXPECT_NEAR(double(in_learned) / n, expected, 0.01);
+}
+
+// The world's paths leave their disk with the density the landing guide reports: over many draws the mean of
+// f / density is the integral of f over the disk relative to its area, for f = 1, the indicator of a half-disk
+// and that of the learned cell's shadow, and the learned cell's shadow gets the share of the draws it should.
+TEST(LandingGuide, DrawsWithTheDensityItReports) {
+  const glm::vec3 lo(-1.0f, 0.0f, 0.0f), hi(3.0f, 2.0f, 1.0f), centre = 0.5f * (lo + hi);
+  const float radius = 0.5f * glm::length(hi - lo);
+  cpu::LandingGuide guide(lo, hi);
+  EXPECT_TRUE(guide.uniform());
+  // Two paths of the world (light 1 of one lamp and one direction) and one of the lamp, which teaches nothing.
+  const std::vector<cpu::Vpl> paths = {{{2.9f, 1.9f, 0.05f}, {0, 0, 1}, glm::vec3(1.0f), 1, 1},
+                                       {{2.95f, 1.95f, 0.1f}, {0, 0, 1}, glm::vec3(1.0f), 2, 1},
+                                       {{0.0f, 1.0f, 0.5f}, {0, 0, 1}, glm::vec3(1.0f), 1, 1},
+                                       {{-0.9f, 0.1f, 0.1f}, {0, 0, 1}, glm::vec3(1.0f), 1, 0}};
+  guide.learn(paths, std::vector<float>{2.0f, 1.0f, 1.0f, 9.0f}, {1, 1});
+  guide.update();
+  ASSERT_FALSE(guide.uniform());
+  const glm::vec3 direction = glm::normalize(glm::vec3(-0.3f, -0.2f, -1.0f));  // from above, as a sky's
+  const glm::vec3 x = glm::normalize(glm::cross(direction, glm::vec3(1, 0, 0))), y = glm::cross(direction, x);
+  const glm::vec3 disk_centre = centre - 2.0f * radius * direction;
+  // The learned cell's shadow on the disk: lines along the direction that pass near the hottest landing.
+  const auto shadows_corner = [&](glm::vec3 p) {
+    const glm::vec3 closest = p + direction * glm::dot(glm::vec3(2.9f, 1.9f, 0.05f) - p, direction);
+    return glm::length(closest - glm::vec3(2.9f, 1.9f, 0.05f)) < 0.05f;
+  };
+  const int n = 1 << 20;
+  double all = 0.0, half = 0.0, corner = 0.0, uniform_density = 0.0;
+  int in_corner = 0;
+  for (int i = 0; i < n; ++i) {
+    const glm::vec2 u = r2_point(uint32_t(i) + 1u, glm::vec2(0.25f, 0.75f));
+    const float r = radius * std::sqrt(u.x), phi = 2.0f * kPi * u.y;
+    const glm::vec3 uniform_origin = disk_centre + r * (std::cos(phi) * x + std::sin(phi) * y);
+    const float choice = (float(i % 997) + 0.5f) / 997.0f, pick = (float(i) + 0.5f) / float(n);
+    const glm::vec3 within(float(i % 89) / 89.0f, u.x, u.y);
+    const auto drawn = guide.origin(uniform_origin, disk_centre, direction, radius, choice, pick, within);
+    uniform_density += guide.origin(uniform_origin, disk_centre, direction, radius, 0.0f, 0.0f, within).density;
+    if (!(drawn.density > 0.0f)) continue;
+    all += 1.0 / drawn.density;
+    if (glm::dot(drawn.point - disk_centre, x) > 0.0f) half += 1.0 / drawn.density;
+    if (shadows_corner(drawn.point)) corner += 1.0 / drawn.density, ++in_corner;
+  }
+  const double corner_area = kPi * 0.05 * 0.05 / (kPi * radius * radius);
+  EXPECT_NEAR(all / n, 1.0, 0.01);
+  EXPECT_NEAR(half / n, 0.5, 0.01);
+  EXPECT_NEAR(corner / n, corner_area, 0.05 * corner_area);
+  EXPECT_NEAR(uniform_density / n, 1.0, 0.01);
+  // The corner's landings hold 3/4 of what was learned, and the guided share is 3/4 of the draws.
+  EXPECT_GT(double(in_corner) / n, 0.2);
+}
+
+// Paths go to the classes of lights by the root of the second moment of what one of their paths estimates, mixed
+// with a quarter by power: a lamp whose light rides on one path in a hundred gets more paths than one whose every
+// path lights a little, though it gives less light; the world's directions share their class's paths by power; a
+// path's importance is its VPLs' together; and a render's first sample goes by power alone.
+TEST(PathShares, SharePathsByTheirImportancesSecondMoment) {
+  BounceLight lamp{};
+  lamp.type = BOUNCE_LIGHT_POINT;
+  lamp.intensity[0] = lamp.intensity[1] = lamp.intensity[2] = 1.0f;
+  BounceLight sky = lamp;
+  sky.type = BOUNCE_LIGHT_SUN;
+  sky.axis_z[2] = 1.0f;
+  const float radius = 2.0f;  // a sky direction's power, pi r^2, is then a point light's, 4 pi
+  const std::vector<BounceLight> lights = {lamp, lamp, sky, sky};
+  const cpu::LightKinds kinds{2, 2};
+  cpu::PathShares shares;
+  shares.reset(2);
+  const std::vector<double> first = shares.weights(lights, kinds, radius);
+  ASSERT_EQ(first.size(), 4u);
+  for (double w : first) EXPECT_NEAR(w / first[0], 1.0, 1e-6);
+  // 100 paths per light: lamp 0's every path gives 1, lamp 1's first path 20 and the rest nothing, the sky's paths
+  // two VPLs of 0.5 each.
+  std::vector<cpu::Vpl> candidates;
+  std::vector<float> importance;
+  for (uint32_t l = 0; l < 4; ++l)
+    for (int i = 0; i < 100; ++i)
+      for (uint32_t bounce = 1; bounce <= (l >= 2 ? 2u : 1u); ++bounce) {
+        candidates.push_back({glm::vec3(0.0f), glm::vec3(0, 0, 1), glm::vec3(1.0f), bounce, l});
+        importance.push_back(l == 0 ? 1.0f : l == 1 ? (i == 0 ? 20.0f : 0.0f) : 0.5f);
+      }
+  shares.learn(candidates, importance, first, 400, kinds);
+  const std::vector<double> learned = shares.weights(lights, kinds, radius);
+  // Second moments 100 x 100, 100 x 400 and, for the sky's 200 paths, 200 x 200: roots 100, 200 and 200 share
+  // three quarters; the power's quarter goes a quarter to each light.
+  const double total = learned[0] + learned[1] + learned[2] + learned[3];
+  EXPECT_NEAR(learned[0] / total, 0.75 * 0.2 + 0.0625, 1e-6);
+  EXPECT_NEAR(learned[1] / total, 0.75 * 0.4 + 0.0625, 1e-6);
+  EXPECT_NEAR(learned[2] / total, 0.75 * 0.2 + 0.0625, 1e-6);
+  EXPECT_NEAR(learned[3] / total, 0.75 * 0.2 + 0.0625, 1e-6);
 }
 
 TEST(TileMatrix, MapsTheTileOntoTheWholeClipSquare) {

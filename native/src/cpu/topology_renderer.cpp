@@ -395,9 +395,9 @@ uint32_t TopologyRenderer::vpl_cluster(const Vpl& vpl) const {
   return topologies_.latest()->cluster_at(vpl.position, vpl.normal, topology::Topology::Side::Front, reachable);
 }
 
-void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, std::span<const EmitterOccluder> emitters,
-                                    const BounceSettings& settings, uint64_t seed, std::span<const Probe> probes,
-                                    const ClusterGraph& graph) {
+void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, LightKinds kinds,
+                                    std::span<const EmitterOccluder> emitters, const BounceSettings& settings,
+                                    uint64_t seed, std::span<const Probe> probes, const ClusterGraph& graph) {
   // Candidates: kCandidatesPerVpl times the VPLs wanted, traced from the lights (a sun's over a disk the size of
   // the scene, so most land where the camera sees nothing: on a roof, outside a window).
   VplOptions options;
@@ -406,6 +406,10 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, std::sp
   options.paths = (kCandidatesPerVpl * wanted + options.bounces - 1) / options.bounces;
   options.seed = seed;
   options.guides = guides_;
+  const std::vector<double> path_weights = path_shares_.weights(lights, kinds, scene_.radius());
+  options.path_weights = path_weights;
+  options.kinds = kinds;
+  options.world_guide = &world_guide_;
   const std::vector<Vpl> candidates = trace_vpls(scene_, lights, options);
   std::vector<uint32_t> candidate_cluster(candidates.size());
   parallel_for(candidates.size(), 0, 64, [&](std::size_t i) { candidate_cluster[i] = vpl_cluster(candidates[i]); });
@@ -463,6 +467,9 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, std::sp
   for (std::size_t i = 0; i < candidates.size(); ++i)
     if (candidates[i].light < guides_.size()) guides_[candidates[i].light].learn(candidates[i].emission, importance[i]);
   for (EmissionGuide& guide : guides_) guide.update();
+  path_shares_.learn(candidates, importance, path_weights, options.paths, kinds);
+  world_guide_.learn(candidates, importance, kinds);
+  world_guide_.update();
   Rng rng(seed, kVplResampling, 0);
   vpls_.clear();
   vpl_cluster_.clear();
@@ -575,7 +582,11 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
     const std::vector<BounceLight>& lights = scene_lights.sample(scene, settings, static_cast<uint32_t>(s), seed);
     const std::span<const EmitterOccluder> emitters = scene_lights.emitter_occluders();
     // The lamps keep their indices from sample to sample (the world's directions and the emitters do not).
-    if (s == 0) guides_.assign(scene_lights.lamp_count(), EmissionGuide{});
+    if (s == 0) {
+      guides_.assign(scene_lights.lamp_count(), EmissionGuide{});
+      path_shares_.reset(scene_lights.lamp_count());
+      world_guide_ = LandingGuide(scene_.bounds_min(), scene_.bounds_max());
+    }
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
     {
@@ -615,7 +626,8 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
             probes.push_back({v.surface.position, v.surface.shading_normal, v.surface.albedo, v.cluster,
                               topology::cell_hits(topo.occluders, topo.grid.shape, v.surface.position)});
         }
-      prepare_vpls(lights, emitters, settings, mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
+      prepare_vpls(lights, {scene_lights.lamp_count(), scene_lights.world_count()}, emitters, settings,
+                   mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
     }
     const WorldStrategies world_strategies{scene_lights, settings.world_lights};
     {

@@ -42,7 +42,7 @@ class TopologyRenderer {
     uint32_t cluster;
     std::span<const topology::Occluders::Hit> occluder_hits;  // of its cell (topology::cell_hits)
   };
-  void prepare_vpls(std::span<const BounceLight> lights, std::span<const EmitterOccluder> emitters,
+  void prepare_vpls(std::span<const BounceLight> lights, LightKinds kinds, std::span<const EmitterOccluder> emitters,
                     const BounceSettings& settings, uint64_t seed, std::span<const Probe> probes,
                     const ClusterGraph& graph);
   uint32_t vpl_cluster(const Vpl& vpl) const;
@@ -51,6 +51,8 @@ class TopologyRenderer {
   TopologyCache topologies_{false};  // occluders, no passages: shadow rays decide there
   std::vector<Vpl> vpls_;
   std::vector<EmissionGuide> guides_;    // per lamp, learned over a render's samples
+  PathShares path_shares_;               // learned over a render's samples
+  LandingGuide world_guide_;             // learned over a render's samples
   std::vector<uint32_t> vpl_cluster_;    // per VPL; topology::kNoNode when walled in or outside the grid
   std::vector<uint8_t> vpl_lit_by_ray_;  // per VPL: whether a shadow ray found its light reaching a probe
 };

@@ -113,23 +113,132 @@ EmissionGuide::Sample EmissionGuide::sample(float pick, glm::vec2 within) const 
   return {emission, float(probability * double(learned_.size()))};
 }
 
+LandingGuide::LandingGuide(glm::vec3 lo, glm::vec3 hi) {
+  const glm::vec3 extent = glm::max(hi - lo, glm::vec3(0.0f));
+  const float longest = std::max({extent.x, extent.y, extent.z});
+  if (!(longest > 0.0f) || !std::isfinite(longest)) return;
+  // Flat sides get one cell as thick as a thousandth of the longest side: a cell needs a volume.
+  const glm::vec3 thick = glm::max(extent, glm::vec3(1e-3f * longest));
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  cells_ = glm::clamp(glm::ivec3(glm::ceil(thick / longest * float(kCellsPerSide))), 1, kCellsPerSide);
+  cell_size_ = thick / glm::vec3(cells_);
+  lo_ = centre - 0.5f * thick;
+  learned_.assign(std::size_t(cells_.x) * std::size_t(cells_.y) * std::size_t(cells_.z), 0.0);
+}
+
+void LandingGuide::learn(std::span<const Vpl> candidates, std::span<const float> importance, LightKinds kinds) {
+  if (learned_.empty()) return;
+  for_each_path(candidates, importance, [&](const Vpl& first, double path) {
+    if (first.light < kinds.lamps || first.light - kinds.lamps >= kinds.world || first.bounce != 1 || !(path > 0.0))
+      return;
+    const glm::vec3 at = (first.position - lo_) / cell_size_;
+    if (!std::isfinite(at.x) || !std::isfinite(at.y) || !std::isfinite(at.z)) return;
+    learned_[cell_index(glm::clamp(glm::ivec3(glm::floor(at)), glm::ivec3(0), cells_ - 1))] += path;
+  });
+}
+
+void LandingGuide::update() {
+  double total = 0.0;
+  for (double value : learned_) total += value;
+  cdf_.clear();
+  probability_.clear();
+  if (!(total > 0.0)) return;
+  cdf_.push_back(0.0);
+  for (double value : learned_) {
+    probability_.push_back(value / total);
+    cdf_.push_back(cdf_.back() + value / total);
+  }
+}
+
+LandingGuide::Origin LandingGuide::origin(glm::vec3 uniform_origin, glm::vec3 disk_centre, glm::vec3 direction,
+                                          float radius, float choice, float pick, glm::vec3 within) const {
+  if (uniform()) return {uniform_origin, 1.0f};
+  glm::vec3 point = uniform_origin;
+  if (choice >= float(kUniformShare)) {
+    const std::size_t k = find_in_cdf(cdf_, double(pick) * cdf_.back());
+    const glm::ivec3 cell(int(k % std::size_t(cells_.x)), int(k / std::size_t(cells_.x) % std::size_t(cells_.y)),
+                          int(k / (std::size_t(cells_.x) * std::size_t(cells_.y))));
+    const glm::vec3 target = lo_ + (glm::vec3(cell) + within) * cell_size_;
+    point = target + direction * glm::dot(disk_centre - target, direction);
+    if (glm::length(point - disk_centre) > radius) return {point, 0.0f};
+  }
+  return {point, density(point, direction, kPi * radius * radius)};
+}
+
+float LandingGuide::density(glm::vec3 origin, glm::vec3 direction, float disk_area) const {
+  if (uniform()) return 1.0f;
+  // The line's span inside the grid (slabs), then its cells in order (Amanatides and Woo 1987).
+  const glm::vec3 hi = lo_ + glm::vec3(cells_) * cell_size_;
+  double t_in = -std::numeric_limits<double>::infinity(), t_out = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (direction[a] == 0.0f) {
+      if (origin[a] < lo_[a] || origin[a] > hi[a]) return float(kUniformShare);
+      continue;
+    }
+    const double t0 = (double(lo_[a]) - origin[a]) / direction[a], t1 = (double(hi[a]) - origin[a]) / direction[a];
+    t_in = std::max(t_in, std::min(t0, t1));
+    t_out = std::min(t_out, std::max(t0, t1));
+  }
+  double along = 0.0;  // the sum of probability times length over the cells crossed
+  if (t_in < t_out) {
+    const glm::dvec3 start = glm::dvec3(origin) + 0.5 * (t_in + std::min(t_out, t_in + 1e-9)) * glm::dvec3(direction);
+    glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor((start - glm::dvec3(lo_)) / glm::dvec3(cell_size_))),
+                                 glm::ivec3(0), cells_ - 1);
+    glm::dvec3 t_next, t_step;
+    glm::ivec3 step;
+    for (int a = 0; a < 3; ++a) {
+      step[a] = direction[a] > 0.0f ? 1 : -1;
+      const double boundary = double(lo_[a]) + double(cell[a] + (step[a] > 0 ? 1 : 0)) * double(cell_size_[a]);
+      t_next[a] =
+          direction[a] != 0.0f ? (boundary - origin[a]) / direction[a] : std::numeric_limits<double>::infinity();
+      t_step[a] = direction[a] != 0.0f ? double(cell_size_[a]) / std::abs(double(direction[a]))
+                                       : std::numeric_limits<double>::infinity();
+    }
+    double t = t_in;
+    while (t < t_out) {
+      const int a = t_next.x <= t_next.y ? (t_next.x <= t_next.z ? 0 : 2) : (t_next.y <= t_next.z ? 1 : 2);
+      const double end = std::min(t_next[a], t_out);
+      along += probability_[cell_index(cell)] * std::max(end - t, 0.0);
+      t = end;
+      cell[a] += step[a];
+      if (cell[a] < 0 || cell[a] >= cells_[a]) break;
+      t_next[a] += t_step[a];
+    }
+  }
+  const double volume = double(cell_size_.x) * double(cell_size_.y) * double(cell_size_.z);
+  return float(kUniformShare + (1.0 - kUniformShare) * double(disk_area) * along / volume);
+}
+
+std::vector<uint32_t> light_of_paths(std::span<const double> weights, int paths) {
+  std::vector<double> cumulative(weights.size() + 1, 0.0);
+  for (std::size_t l = 0; l < weights.size(); ++l)
+    cumulative[l + 1] = cumulative[l] + (std::isfinite(weights[l]) ? std::max(weights[l], 0.0) : 0.0);
+  if (!(cumulative.back() > 0.0) || paths <= 0) return {};
+  std::vector<uint32_t> light_of(static_cast<std::size_t>(paths));
+  for (int i = 0; i < paths; ++i)
+    light_of[std::size_t(i)] = uint32_t(find_in_cdf(cumulative, (i + 0.5) / paths * cumulative.back()));
+  return light_of;
+}
+
 std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> lights, const VplOptions& options) {
   const int paths = std::max(options.paths, 0), bounces = std::max(options.bounces, 1);
   const float radius = scene.radius();
   if (lights.empty() || paths == 0 || scene.triangle_count() == 0 || !(radius > 0.0f)) return {};
-  // Stratified choice of the light: path i takes the light where (i + 0.5) / paths falls in the cumulative power.
-  std::vector<double> cumulative(lights.size() + 1, 0.0);
-  for (std::size_t l = 0; l < lights.size(); ++l)
-    cumulative[l + 1] = cumulative[l] + double(weight(light_power(lights[l], radius)));
-  if (!(cumulative.back() > 0.0)) return {};
-  std::vector<uint32_t> light_of(static_cast<std::size_t>(paths)), paths_of(lights.size(), 0);
-  for (int i = 0; i < paths; ++i) {
-    light_of[std::size_t(i)] = uint32_t(find_in_cdf(cumulative, (i + 0.5) / paths * cumulative.back()));
-    ++paths_of[light_of[std::size_t(i)]];
-  }
+  std::vector<double> power_weights;
+  if (options.path_weights.size() != lights.size())
+    for (const BounceLight& light : lights) power_weights.push_back(double(weight(light_power(light, radius))));
+  const std::vector<uint32_t> light_of =
+      light_of_paths(power_weights.empty() ? options.path_weights : std::span<const double>(power_weights), paths);
+  if (light_of.empty()) return {};
+  std::vector<uint32_t> paths_of(lights.size(), 0);
+  for (uint32_t l : light_of) ++paths_of[l];
   const glm::vec3 centre = 0.5f * (scene.bounds_min() + scene.bounds_max());
   const float offset = scene.ray_offset();
   std::vector<std::vector<Vpl>> per_path(static_cast<std::size_t>(paths));
+  const auto landing_guided = [&](uint32_t l) {
+    return options.world_guide && !options.world_guide->uniform() && l >= options.kinds.lamps &&
+           l - options.kinds.lamps < options.kinds.world && lights[l].type == BOUNCE_LIGHT_SUN;
+  };
   parallel_for(std::size_t(paths), 0, 16, [&](std::size_t i) {
     Rng rng(options.seed, kVplPaths, i);
     const uint32_t l = light_of[i];
@@ -138,7 +247,17 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
                                              ? options.guides[l].sample(rng.next(), {u1, u2})
                                              : EmissionGuide::Sample{{u1, u2}, 1.0f};
     Emission ray = emit(lights[l], centre, radius, offset, guided.emission.x, guided.emission.y, u3, u4);
-    glm::vec3 power = ray.power / (float(paths_of[l]) * guided.density);
+    float density = guided.density;
+    if (landing_guided(l)) {
+      // The world's directions are suns: their disks lie 2 radii from the centre, facing them.
+      const float choice = rng.next(), pick = rng.next();
+      const LandingGuide::Origin guided_origin = options.world_guide->origin(
+          ray.origin, centre - 2.0f * radius * ray.direction, ray.direction, radius, choice, pick, {u1, u2, u3});
+      if (!(guided_origin.density > 0.0f)) return;  // off the disk, where no light comes from
+      ray.origin = guided_origin.point;
+      density = guided_origin.density;
+    }
+    glm::vec3 power = ray.power / (float(paths_of[l]) * density);
     for (int bounce = 1; bounce <= bounces; ++bounce) {
       if (!(weight(power) > 0.0f) || !std::isfinite(weight(power))) break;
       // The origin is already off its surface: a near limit as well would skip an adjoining face within it (the
@@ -157,6 +276,50 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
   std::vector<Vpl> vpls;
   for (const auto& path : per_path) vpls.insert(vpls.end(), path.begin(), path.end());
   return vpls;
+}
+
+void PathShares::reset(std::size_t lamps) { second_moment_.assign(lamps + 2, 0.0); }
+
+std::size_t PathShares::class_of(std::size_t light, LightKinds kinds) {
+  return light < kinds.lamps ? light : light < kinds.lamps + kinds.world ? kinds.lamps : kinds.lamps + 1;
+}
+
+std::vector<double> PathShares::weights(std::span<const BounceLight> lights, LightKinds kinds,
+                                        float scene_radius) const {
+  if (second_moment_.size() != kinds.lamps + 2) return {};
+  std::vector<double> power(lights.size()), class_power(second_moment_.size(), 0.0);
+  for (std::size_t l = 0; l < lights.size(); ++l) {
+    power[l] = double(weight(light_power(lights[l], scene_radius)));
+    if (!std::isfinite(power[l])) return {};
+    class_power[class_of(l, kinds)] += power[l];
+  }
+  double total_power = 0.0, total_root = 0.0;
+  for (std::size_t c = 0; c < class_power.size(); ++c) {
+    total_power += class_power[c];
+    if (class_power[c] > 0.0) total_root += std::sqrt(second_moment_[c]);
+  }
+  if (!(total_root > 0.0) || !std::isfinite(total_root) || !(total_power > 0.0)) return power;
+  std::vector<double> weights(lights.size());
+  for (std::size_t l = 0; l < lights.size(); ++l) {
+    const std::size_t c = class_of(l, kinds);
+    if (!(class_power[c] > 0.0)) continue;
+    const double share =
+        (1.0 - kPowerShare) * std::sqrt(second_moment_[c]) / total_root + kPowerShare * class_power[c] / total_power;
+    weights[l] = share * power[l] / class_power[c];
+  }
+  return weights;
+}
+
+void PathShares::learn(std::span<const Vpl> candidates, std::span<const float> importance,
+                       std::span<const double> weights, int paths, LightKinds kinds) {
+  if (second_moment_.size() != kinds.lamps + 2) return;
+  std::vector<double> class_paths(second_moment_.size(), 0.0), sum_of_squares(second_moment_.size(), 0.0);
+  for (uint32_t l : light_of_paths(weights, paths)) class_paths[class_of(l, kinds)] += 1.0;
+  for_each_path(candidates, importance,
+                [&](const Vpl& first, double path) { sum_of_squares[class_of(first.light, kinds)] += path * path; });
+  // Earlier samples count for less: guides learn, and a class's paths grow more useful than its first ones.
+  for (std::size_t c = 0; c < second_moment_.size(); ++c)
+    second_moment_[c] = kMemory * second_moment_[c] + class_paths[c] * sum_of_squares[c];
 }
 
 std::vector<Draw> resample(std::span<const float> importance, int count, float uniform_share, float u) {

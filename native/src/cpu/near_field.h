@@ -5,7 +5,8 @@
 // (1 - d^2 / c^2). Light next to a lit surface (a column's foot, a corner by a sunlit floor) came out dark without
 // it: the Topology method's first bounce in Sponza with shadow rays was 0.943 of Cycles (0.884 in the right
 // third), 1.013 with it. The second bounce's share (y's own first-bounce light) is given back by the renderer
-// that has gathered that light where the camera sees y (NearField::reflectance times it, at first_bounce_pixel).
+// that has gathered that light where the camera sees y (NearField::reflectance times it, at first_bounce_pixel),
+// and estimates it from its VPLs where no pixel does.
 #pragma once
 
 #include <cstddef>

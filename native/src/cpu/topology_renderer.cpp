@@ -30,7 +30,15 @@ using topology::kNoNode;
 constexpr int kDepthSlices = 16;           // clustered shading's exponential depth slices (Olsson et al. 2012)
 constexpr float kBackgroundDepth = 1e10f;  // Blender's Depth pass value where nothing is hit
 constexpr float kEmitterMargin = 1e-4f;    // of the scene's radius: the surfaces a segment ends on (FLC's margin)
-enum Purpose : uint64_t { kDirectLight = 21, kVplResampling = 22, kVplSample = 23, kNearField = 24, kRayChecks = 25 };
+constexpr int kUnseenNearFieldVpls = 16;   // VPLs that estimate the first bounce where no pixel sees it
+enum Purpose : uint64_t {
+  kDirectLight = 21,
+  kVplResampling = 22,
+  kVplSample = 23,
+  kNearField = 24,
+  kRayChecks = 25,
+  kUnseenNearField = 26
+};
 
 // ---- View samples -----------------------------------------------------------------------------------------
 
@@ -836,8 +844,45 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
           return view[j].hit ? std::optional<SeenSurface>({view[j].surface.position, view[j].surface.shading_normal})
                              : std::nullopt;
         };
-        const std::optional<std::size_t> j = first_bounce_pixel(y, i, point, width, height, clamp, seen);
-        return j ? first_bounce(*j) : glm::vec3(0.0f);
+        if (const std::optional<std::size_t> j = first_bounce_pixel(y, i, point, width, height, clamp, seen))
+          return first_bounce(*j);
+        // No pixel sees y (the far side of a box on the ground, the ground under its edge): a few of the sample's
+        // first-bounce VPLs, drawn by the light they give y unshadowed, with shadow rays, estimate their light there
+        // without bias, and a near-field ray of y's own what its clamp takes. With none, the open ground's second
+        // bounce was 0.82 of Cycles'; drawn evenly, a VPL within the clamp of y took the Cornell box's Indirect
+        // relMSE from 5.9e-5 to 1.8e-4.
+        thread_local std::vector<glm::vec3> unshadowed;
+        unshadowed.resize(vpls_.size());
+        double total = 0.0;
+        for (std::size_t l = 0; l < vpls_.size(); ++l) {
+          unshadowed[l] =
+              vpls_[l].bounce == 1 ? vpl_irradiance(vpls_[l], y.position, y.normal, clamp) : glm::vec3(0.0f);
+          total += double(unshadowed[l].r + unshadowed[l].g + unshadowed[l].b);
+        }
+        Rng rng(seed, kUnseenNearField, (uint64_t(s) << 40) ^ i);
+        const Progression progression{mix(uint64_t(seed) ^ mix(kUnseenNearField)) ^ i, uint32_t(s)};
+        const Surface y_surface{y.position, y.normal, y.normal, glm::vec3(0.0f), glm::vec3(0.0f)};
+        const glm::vec3 own_near =
+            near_field(scene_, y_surface, lights, direct_rays, world_strategies, clamp, progression, rng).irradiance;
+        if (!(total > 0.0) || !std::isfinite(total)) return own_near;
+        const double start = double(rng.next());
+        glm::vec3 sum(0.0f);
+        double cumulative = 0.0;
+        std::size_t l = 0;
+        for (int k = 0; k < kUnseenNearFieldVpls; ++k) {
+          const double target = (double(k) + start) / kUnseenNearFieldVpls * total;
+          for (; l + 1 < vpls_.size(); ++l) {
+            const double next = cumulative + double(unshadowed[l].r + unshadowed[l].g + unshadowed[l].b);
+            if (next > target) break;
+            cumulative = next;
+          }
+          const float light = unshadowed[l].r + unshadowed[l].g + unshadowed[l].b;
+          if (!(light > 0.0f)) continue;
+          const Vpl& vpl = vpls_[l];
+          if (scene_.clear_between(vpl.position + vpl.normal * offset, y.position + y.normal * offset))
+            sum += unshadowed[l] * float(total / double(light));
+        }
+        return sum / float(kUnseenNearFieldVpls) + own_near;
       };
       parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
         for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {

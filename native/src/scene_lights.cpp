@@ -113,6 +113,7 @@ void SceneLights::update(const GpuScene& scene) {
     const WorldRadiance world(scene.world(), scene.texture_data(scene.world().environment_texture));
     const TextureData* env = world.environment();
     world_texels_.clear();
+    world_peak_ = 0.0f;
     world_cdf_.assign(1, 0.0);
     world_width_ = std::size_t(env ? std::min(env->width, kWorldTableWidth) : 1);
     const int width = int(world_width_);
@@ -135,6 +136,7 @@ void SceneLights::update(const GpuScene& scene) {
         const float u0 = float(column) / float(width), u1 = float(column + 1) / float(width);
         const double solid_angle = double(u1 - u0) * 2.0 * kPi * double(z1 - z0);
         world_texels_.push_back({radiance, u0, u1, z0, z1});
+        world_peak_ = std::max(world_peak_, weight(radiance));
         world_cdf_.push_back(world_cdf_.back() + double(weight(radiance)) * solid_angle);
       }
     }

@@ -82,6 +82,8 @@ class SceneLights {
     float pdf;
   };
   std::optional<WorldDirection> draw_world(glm::vec2 u) const;
+  // The largest radiance of the world's table (its channels summed).
+  float world_peak() const { return world_peak_; }
 
  private:
   struct Emitter {
@@ -101,6 +103,7 @@ class SceneLights {
   std::vector<WorldTexel> world_texels_;
   std::vector<double> world_cdf_;  // cumulative radiance x solid angle, row after row (bottom first)
   std::size_t world_width_ = 1;
+  float world_peak_ = 0.0f;
   std::vector<double> world_row_cdf_;  // the rows' marginal: world_cdf_ at each row's start, and the total
   glm::mat3 environment_to_world_{1.0f}, world_to_environment_{1.0f};
   std::vector<BounceLight> lights_;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "cpu/sky_guide.h"
 #include "cpu/vpls.h"
 #include "passes/shadows/shadow_pass.h"
 #include "radiometry.h"
@@ -247,6 +248,48 @@ TEST(PathShares, SharePathsByTheirImportancesSecondMoment) {
   EXPECT_NEAR(learned[1] / total, 0.75 * 0.4 + 0.0625, 1e-6);
   EXPECT_NEAR(learned[2] / total, 0.75 * 0.2 + 0.0625, 1e-6);
   EXPECT_NEAR(learned[3] / total, 0.75 * 0.2 + 0.0625, 1e-6);
+}
+
+// The sky guide draws a box's directions with the density it reports: over many draws the mean of f / pdf is the
+// integral of f over the bins learned, its pdf() agrees with each draw's, it guides only the boxes that learned,
+// a side reads what the other side learned, and what it learns does not depend on the order.
+TEST(SkyGuide, DrawsWithTheDensityItReports) {
+  cpu::SkyGuide guide(glm::vec3(0.0f), glm::vec3(4.0f, 4.0f, 2.0f));
+  const glm::vec3 x(0.2f, 0.3f, 0.1f), elsewhere(3.8f, 3.7f, 1.9f);
+  const glm::vec3 window = glm::normalize(glm::vec3(0.2f, -1.0f, 0.4f)), up(0.0f, 0.0f, 1.0f);
+  for (int i = 0; i < 300; ++i) guide.learn(1, x, window, 0.5f);
+  for (int i = 0; i < 50; ++i) guide.learn(1, x, up, 0.1f);
+  guide.update();
+  EXPECT_TRUE(guide.guides(0, x));
+  EXPECT_FALSE(guide.guides(1, x));  // its own side learned it
+  EXPECT_FALSE(guide.guides(0, elsewhere));
+  EXPECT_FALSE(guide.draw(0, elsewhere, 0.5f, {0.5f, 0.5f}));
+  const int n = 1 << 18;
+  double all = 0.0, near_window = 0.0;
+  int agree = 0;
+  for (int i = 0; i < n; ++i) {
+    const glm::vec2 within = r2_point(uint32_t(i) + 1u, glm::vec2(0.25f, 0.75f));
+    const auto drawn = guide.draw(0, x, (float(i) + 0.5f) / float(n), within);
+    ASSERT_TRUE(drawn);
+    ASSERT_GT(drawn->pdf, 0.0f);
+    ASSERT_NEAR(glm::length(drawn->direction), 1.0f, 1e-4f);
+    agree += std::abs(guide.pdf(0, x, drawn->direction) / drawn->pdf - 1.0f) < 1e-5f;
+    all += 1.0 / drawn->pdf;
+    if (glm::dot(drawn->direction, window) > 0.9f) near_window += 1.0 / drawn->pdf;
+  }
+  // The draws cover the two bins learned, each 4 pi / 128 steradians; the part of them within 0.9 of the window's
+  // direction is less than that cap's 2 pi (1 - 0.9).
+  EXPECT_GT(double(agree) / n, 0.999);
+  EXPECT_NEAR(all / n, 2.0 * 4.0 * kPi / cpu::SkyGuide::kBins, 0.01 * 2.0 * 4.0 * kPi / cpu::SkyGuide::kBins);
+  EXPECT_GT(near_window / n, 0.0);
+  EXPECT_LT(near_window / n, 2.0 * kPi * 0.1 * 1.01);
+  // Learned in the other order, the same densities.
+  cpu::SkyGuide reversed(glm::vec3(0.0f), glm::vec3(4.0f, 4.0f, 2.0f));
+  for (int i = 0; i < 50; ++i) reversed.learn(1, x, up, 0.1f);
+  for (int i = 0; i < 300; ++i) reversed.learn(1, x, window, 0.5f);
+  reversed.update();
+  EXPECT_EQ(reversed.pdf(0, x, window), guide.pdf(0, x, window));
+  EXPECT_EQ(reversed.pdf(0, x, up), guide.pdf(0, x, up));
 }
 
 TEST(TileMatrix, MapsTheTileOntoTheWholeClipSquare) {

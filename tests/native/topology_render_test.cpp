@@ -31,6 +31,20 @@ class TopologyRender : public RenderFixture {
     const glm::mat4 view = glm::lookAt(glm::vec3(19.0f, 5.0f, 2.0f), glm::vec3(10.0f, 5.0f, 1.0f), glm::vec3(0, 0, 1));
     set_camera(view, glm::perspective(glm::radians(70.0f), 2.0f, 0.05f, 100.0f), 64, 32);
   }
+  // The room with a window (topology_scenes.h) under a uniform sky of radiance 1, no lamp, seen from inside.
+  void build_room_under_a_sky() {
+    add_soup(1, room_with_window().vertices);
+    set_instances({1}, {glm::mat4(1.0f)});
+    set_albedo(0.7f);
+    set_lights({});
+    BounceWorld world{};
+    world.background[0] = world.background[1] = world.background[2] = 1.0f;
+    world.environment_texture = BOUNCE_NO_TEXTURE;
+    world.world_to_environment[0] = world.world_to_environment[4] = world.world_to_environment[8] = 1.0f;
+    ASSERT_BOUNCE_OK(bounce_world_set(engine_, &world));
+    set_camera(glm::lookAt(glm::vec3(5.5f, 0.3f, 2.5f), glm::vec3(1.0f, 4.0f, 1.0f), glm::vec3(0, 0, 1)),
+               glm::perspective(glm::radians(70.0f), 1.5f, 0.05f, 100.0f), 48, 32);
+  }
   BounceTopologyInfo topology_info() {
     BounceTopologyInfo info{};
     EXPECT_EQ(bounce_topology_info(engine_, &info), BOUNCE_OK) << bounce_last_error();
@@ -68,6 +82,25 @@ class TopologyRender : public RenderFixture {
         m += 0.25 * (sa + sb) * (sa + sb);
       }
     return std::sqrt(d / std::max(m, 1e-30));
+  }
+  Image render_aov(int aov, int seed, int samples) {
+    settings_.seed = seed;
+    settings_.samples = samples;
+    render();
+    return read(aov);
+  }
+  // Over four pairs of seeds, the root mean square of relative_difference and the mean red of `aov`.
+  struct SeedSpread {
+    double difference, mean;
+  };
+  SeedSpread seed_spread(int aov, int samples) {
+    double squared = 0.0, mean = 0.0;
+    for (int seed = 1; seed < 9; seed += 2) {
+      const Image a = render_aov(aov, seed, samples), b = render_aov(aov, seed + 1, samples);
+      squared += std::pow(relative_difference(a, b), 2) / 4.0;
+      mean += (mean_red(a) + mean_red(b)) / 8.0;
+    }
+    return {std::sqrt(squared), mean};
   }
   static double mse(const Image& a, const Image& b) {
     double sum = 0.0;
@@ -308,38 +341,33 @@ TEST_F(TopologyRender, SunThroughAWindowConvergesOverSamples) {
 // leave where earlier paths' light landed in view (LandingGuide), so at 16 samples the images of two seeds draw
 // together and their light is the shadow rays' of many samples.
 TEST_F(TopologyRender, SkyThroughAWindowConvergesOverSamples) {
-  add_soup(1, room_with_window().vertices);
-  set_instances({1}, {glm::mat4(1.0f)});
-  set_albedo(0.7f);
-  set_lights({});
-  BounceWorld world{};
-  world.background[0] = world.background[1] = world.background[2] = 1.0f;
-  world.environment_texture = BOUNCE_NO_TEXTURE;
-  world.world_to_environment[0] = world.world_to_environment[4] = world.world_to_environment[8] = 1.0f;
-  ASSERT_BOUNCE_OK(bounce_world_set(engine_, &world));
-  set_camera(glm::lookAt(glm::vec3(5.5f, 0.3f, 2.5f), glm::vec3(1.0f, 4.0f, 1.0f), glm::vec3(0, 0, 1)),
-             glm::perspective(glm::radians(70.0f), 1.5f, 0.05f, 100.0f), 48, 32);
+  build_room_under_a_sky();
   settings_.topology_vpls = 512;
   settings_.bounces = 2;
-  const auto indirect = [&](int seed, int samples) {
-    settings_.seed = seed;
-    settings_.samples = samples;
-    render();
-    return read(BOUNCE_AOV_INDIRECT);
-  };
-  double squared = 0.0, mean = 0.0;
-  for (int seed = 1; seed < 9; seed += 2) {
-    const Image a = indirect(seed, 16), b = indirect(seed + 1, 16);
-    squared += std::pow(relative_difference(a, b), 2) / 4.0;
-    mean += (mean_red(a) + mean_red(b)) / 8.0;
-  }
+  const SeedSpread spread = seed_spread(BOUNCE_AOV_INDIRECT, 16);
   settings_.topology_visibility = 1;  // shadow rays
-  const double rays = mean_red(indirect(1, 256));
+  const double rays = mean_red(render_aov(BOUNCE_AOV_INDIRECT, 1, 256));
   std::printf("sky through a window: seeds differ by %.3f at 16 samples; mean indirect %.5f, shadow rays %.5f\n",
-              std::sqrt(squared), mean, rays);
+              spread.difference, spread.mean, rays);
   // Before the guide: 0.465 and 1.18 times the rays' light (a few heavy VPLs that entered the window).
-  EXPECT_LT(std::sqrt(squared), 0.35);
-  EXPECT_NEAR(mean / rays, 1.0, 0.06);
+  EXPECT_LT(spread.difference, 0.35);
+  EXPECT_NEAR(spread.mean / rays, 1.0, 0.06);
+}
+
+// The room's direct light from the sky: from inside, the sky is seen through the window alone, which the table's
+// and the cosine's directions seldom find. After the first sample a third strategy draws the directions in which
+// each region's points found it (SkyGuide), so two seeds' images draw together faster than without, the mean stays
+// that of many samples, and a seed repeats its image (the guide learns in fixed point, whatever the threads).
+TEST_F(TopologyRender, SkyGuideFindsTheWindowForDirectLight) {
+  build_room_under_a_sky();
+  const SeedSpread spread = seed_spread(BOUNCE_AOV_DIRECT, 16);
+  const Image once = render_aov(BOUNCE_AOV_DIRECT, 1, 16);
+  const double many = mean_red(render_aov(BOUNCE_AOV_DIRECT, 1, 256));
+  std::printf("sky's direct light through a window: seeds differ by %.4f at 16 samples; mean %.5f, 256 samples %.5f\n",
+              spread.difference, spread.mean, many);
+  EXPECT_EQ(mse(once, render_aov(BOUNCE_AOV_DIRECT, 1, 16)), 0.0);
+  EXPECT_NEAR(spread.mean / many, 1.0, 0.02);
+  EXPECT_LT(spread.difference, 0.025);  // 0.0260 with the table's and the cosine's directions alone
 }
 
 // Interleaved gathering (Interleaving 2: each pixel of a 2x2 block gathers a quarter of the VPLs, four times as

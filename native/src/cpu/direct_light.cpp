@@ -30,7 +30,7 @@ int grid_side(int samples, int dimensions) {
 }
 
 // The world's directions' items among a Progression's scrambles (the lights' are their indices).
-constexpr uint64_t kWorldDirections = ~uint64_t(1), kCosineDirections = ~uint64_t(0);
+constexpr uint64_t kWorldDirections = ~uint64_t(1), kCosineDirections = ~uint64_t(0), kGuidedDirections = ~uint64_t(2);
 
 // The rays of one query.
 struct ShadingContext {
@@ -215,9 +215,21 @@ glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, gl
       sum += shadowed_irradiance(lights[i], y, n, rays, sequence_scramble(progression, i, rng), sample);
   if (!world) return sum;
   const int drawn = int(last - first), cosine = std::max(world->cosine, 0);
-  // The power heuristic's terms (K p(w))^2 and (K_c cos / pi)^2 of both strategies toward w.
-  const auto terms = [&](glm::vec3 w, float pdf) {
-    return glm::vec2(float(drawn) * pdf, float(cosine) * std::max(glm::dot(n, w), 0.0f) / kPi);
+  SkyGuide* const guide = world->guide;
+  const uint32_t side = progression ? uint32_t(progression->key & 1u) : 0u;  // SkyGuide: the sequences' side
+  const int guided = guide && guide->guides(side, y) ? cosine : 0;
+  // The power heuristic's terms K p(w) of the three strategies toward w.
+  const auto terms = [&](glm::vec3 w, float table_pdf) {
+    return glm::vec3(float(drawn) * table_pdf, float(cosine) * std::max(glm::dot(n, w), 0.0f) / kPi,
+                     guided > 0 ? float(guided) * guide->pdf(side, y, w) : 0.0f);
+  };
+  // With the power heuristic a direction adds at most L pi / (2 K_c): the guide learns its share of that.
+  const float most = world->lights.world_peak() * kPi / (2.0f * float(std::max(cosine, 1)));
+  // L cos / (K_s p_s), weighted by (K_s p_s)^2 over the sum of the terms squared.
+  const auto add = [&](glm::vec3 w, glm::vec3 radiance, float cos_n, glm::vec3 t, float own) {
+    const glm::vec3 light = radiance * (cos_n * own / glm::dot(t, t));
+    sum += light;
+    if (guide && most > 0.0f) guide->learn(side, y, w, (light.r + light.g + light.b) / most);
   };
   const auto context = [&](uint64_t item) {
     return ShadingContext{rays.bvh, rays.counts, rays.offset, 1, 0.0f, sequence_scramble(progression, item, rng),
@@ -232,9 +244,8 @@ glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, gl
     if (!w) break;
     const float cos_n = glm::dot(n, w->direction);
     if (!(cos_n > 0.0f) || !table.visible_direction(y, n, w->direction)) continue;
-    // L cos / (K p), weighted by (K p)^2 over the sum of both terms squared.
-    const glm::vec2 t = terms(w->direction, w->pdf);
-    sum += w->radiance * (cos_n * t.x / glm::dot(t, t));
+    const glm::vec3 t = terms(w->direction, w->pdf);
+    add(w->direction, w->radiance, cos_n, t, t.x);
   }
   const ShadingContext own = context(kCosineDirections);
   for (int k = 0; k < cosine; ++k) {
@@ -245,9 +256,21 @@ glm::vec3 direct_irradiance(std::span<const BounceLight> lights, glm::vec3 y, gl
     const SceneLights::WorldDensity density = world->lights.world_density(w);
     if (!(density.radiance.r + density.radiance.g + density.radiance.b > 0.0f)) continue;
     if (!own.visible_direction(y, n, w)) continue;
-    // L cos / (K_c cos / pi), weighted by (K_c cos / pi)^2 over the sum of both terms squared.
-    const glm::vec2 t = terms(w, density.pdf);
-    sum += density.radiance * (cos_n * t.y / glm::dot(t, t));
+    const glm::vec3 t = terms(w, density.pdf);
+    add(w, density.radiance, cos_n, t, t.y);
+  }
+  const ShadingContext guided_context = context(kGuidedDirections);
+  for (int k = 0; k < guided; ++k) {
+    const glm::vec3 u = guided_context.point3(k, guided);
+    const std::optional<SkyGuide::Draw> w = guide->draw(side, y, u.x, {u.y, u.z});
+    if (!w) break;
+    const float cos_n = glm::dot(n, w->direction);
+    if (!(cos_n > 0.0f)) continue;
+    const SceneLights::WorldDensity density = world->lights.world_density(w->direction);
+    if (!(density.radiance.r + density.radiance.g + density.radiance.b > 0.0f)) continue;
+    if (!guided_context.visible_direction(y, n, w->direction)) continue;
+    const glm::vec3 t = terms(w->direction, density.pdf);
+    add(w->direction, density.radiance, cos_n, t, t.z);
   }
   return sum;
 }

@@ -10,6 +10,7 @@
 
 #include "bounce/bounce.h"
 #include "cpu/random.h"
+#include "cpu/sky_guide.h"
 #include "embree/embree_device.h"
 #include "scene_lights.h"
 
@@ -52,9 +53,13 @@ glm::vec3 light_irradiance(const BounceLight& light, glm::vec3 y, glm::vec3 n, c
 // the sum stays unbiased, and the strategy far likelier to draw a direction carries nearly all of its light).
 // The table's directions go where the environment is bright, which a point in an atrium seldom sees; its
 // cosine-weighted directions find the sky through the opening.
+// A third strategy, where a SkyGuide has learned where a point's region sees the world: as many directions again as
+// the cosine-weighted ones, drawn from the guide, weighed the same way; every direction that finds light teaches
+// the guide.
 struct WorldStrategies {
   const SceneLights& lights;  // whose sample() made the list of lights: its world's table and directions' count
   int cosine;                 // cosine-weighted directions per point
+  SkyGuide* guide = nullptr;  // learned over the render's samples; none: two strategies
 };
 
 // Summed over the lights; with `world` (whose `lights` made this list), the world's light by both strategies

@@ -594,6 +594,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       guides_.assign(scene_lights.lamp_count(), EmissionGuide{});
       path_shares_.reset(scene_lights.lamp_count());
       world_guide_ = LandingGuide(scene_.bounds_min(), scene_.bounds_max());
+      sky_guide_ = SkyGuide(scene_.bounds_min(), scene_.bounds_max());
     }
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
@@ -637,7 +638,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       prepare_vpls(lights, {scene_lights.lamp_count(), scene_lights.world_count()}, emitters, settings,
                    mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
     }
-    const WorldStrategies world_strategies{scene_lights, settings.world_lights};
+    const WorldStrategies world_strategies{scene_lights, settings.world_lights, &sky_guide_};
     {
       StageScope scope(timer, Stage::TopologyDirect);
       parallel_for(pixels, 0, 256, [&](std::size_t i) {
@@ -900,6 +901,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         }
       });
     }
+    sky_guide_.update();
     for (std::size_t i = 0; i < pixels; ++i) {
       const ViewSample& v = view[i];
       if (!v.hit) {  // the world, as the GPU methods' compose pass adds it

@@ -13,6 +13,7 @@
 
 #include "bounce/bounce.h"
 #include "cpu/cpu_scene.h"
+#include "cpu/sky_guide.h"
 #include "cpu/topology_cache.h"
 #include "cpu/vpls.h"
 #include "gpu_scene.h"
@@ -53,6 +54,7 @@ class TopologyRenderer {
   std::vector<EmissionGuide> guides_;    // per lamp, learned over a render's samples
   PathShares path_shares_;               // learned over a render's samples
   LandingGuide world_guide_;             // learned over a render's samples
+  SkyGuide sky_guide_;                   // learned over a render's samples
   std::vector<uint32_t> vpl_cluster_;    // per VPL; topology::kNoNode when walled in or outside the grid
   std::vector<uint8_t> vpl_lit_by_ray_;  // per VPL: whether a shadow ray found its light reaching a probe
 };

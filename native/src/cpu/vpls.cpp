@@ -113,17 +113,8 @@ EmissionGuide::Sample EmissionGuide::sample(float pick, glm::vec2 within) const 
   return {emission, float(probability * double(learned_.size()))};
 }
 
-LandingGuide::LandingGuide(glm::vec3 lo, glm::vec3 hi) {
-  const glm::vec3 extent = glm::max(hi - lo, glm::vec3(0.0f));
-  const float longest = std::max({extent.x, extent.y, extent.z});
-  if (!(longest > 0.0f) || !std::isfinite(longest)) return;
-  // Flat sides get one cell as thick as a thousandth of the longest side: a cell needs a volume.
-  const glm::vec3 thick = glm::max(extent, glm::vec3(1e-3f * longest));
-  const glm::vec3 centre = 0.5f * (lo + hi);
-  cells_ = glm::clamp(glm::ivec3(glm::ceil(thick / longest * float(kCellsPerSide))), 1, kCellsPerSide);
-  cell_size_ = thick / glm::vec3(cells_);
-  lo_ = centre - 0.5f * thick;
-  learned_.assign(std::size_t(cells_.x) * std::size_t(cells_.y) * std::size_t(cells_.z), 0.0);
+LandingGuide::LandingGuide(glm::vec3 lo, glm::vec3 hi) : grid_(lo, hi, kCellsPerSide) {
+  learned_.assign(grid_.size(), 0.0);
 }
 
 void LandingGuide::learn(std::span<const Vpl> candidates, std::span<const float> importance, LightKinds kinds) {
@@ -131,9 +122,8 @@ void LandingGuide::learn(std::span<const Vpl> candidates, std::span<const float>
   for_each_path(candidates, importance, [&](const Vpl& first, double path) {
     if (first.light < kinds.lamps || first.light - kinds.lamps >= kinds.world || first.bounce != 1 || !(path > 0.0))
       return;
-    const glm::vec3 at = (first.position - lo_) / cell_size_;
-    if (!std::isfinite(at.x) || !std::isfinite(at.y) || !std::isfinite(at.z)) return;
-    learned_[cell_index(glm::clamp(glm::ivec3(glm::floor(at)), glm::ivec3(0), cells_ - 1))] += path;
+    const std::size_t cell = grid_.index_of(first.position);
+    if (cell < learned_.size()) learned_[cell] += path;
   });
 }
 
@@ -156,9 +146,7 @@ LandingGuide::Origin LandingGuide::origin(glm::vec3 uniform_origin, glm::vec3 di
   glm::vec3 point = uniform_origin;
   if (choice >= float(kUniformShare)) {
     const std::size_t k = find_in_cdf(cdf_, double(pick) * cdf_.back());
-    const glm::ivec3 cell(int(k % std::size_t(cells_.x)), int(k / std::size_t(cells_.x) % std::size_t(cells_.y)),
-                          int(k / (std::size_t(cells_.x) * std::size_t(cells_.y))));
-    const glm::vec3 target = lo_ + (glm::vec3(cell) + within) * cell_size_;
+    const glm::vec3 target = grid_.lo + (glm::vec3(grid_.cell(k)) + within) * grid_.cell_size;
     point = target + direction * glm::dot(disk_centre - target, direction);
     if (glm::length(point - disk_centre) > radius) return {point, 0.0f};
   }
@@ -168,44 +156,43 @@ LandingGuide::Origin LandingGuide::origin(glm::vec3 uniform_origin, glm::vec3 di
 float LandingGuide::density(glm::vec3 origin, glm::vec3 direction, float disk_area) const {
   if (uniform()) return 1.0f;
   // The line's span inside the grid (slabs), then its cells in order (Amanatides and Woo 1987).
-  const glm::vec3 hi = lo_ + glm::vec3(cells_) * cell_size_;
+  const glm::vec3 lo = grid_.lo, hi = grid_.lo + glm::vec3(grid_.cells) * grid_.cell_size;
   double t_in = -std::numeric_limits<double>::infinity(), t_out = std::numeric_limits<double>::infinity();
   for (int a = 0; a < 3; ++a) {
     if (direction[a] == 0.0f) {
-      if (origin[a] < lo_[a] || origin[a] > hi[a]) return float(kUniformShare);
+      if (origin[a] < lo[a] || origin[a] > hi[a]) return float(kUniformShare);
       continue;
     }
-    const double t0 = (double(lo_[a]) - origin[a]) / direction[a], t1 = (double(hi[a]) - origin[a]) / direction[a];
+    const double t0 = (double(lo[a]) - origin[a]) / direction[a], t1 = (double(hi[a]) - origin[a]) / direction[a];
     t_in = std::max(t_in, std::min(t0, t1));
     t_out = std::min(t_out, std::max(t0, t1));
   }
   double along = 0.0;  // the sum of probability times length over the cells crossed
   if (t_in < t_out) {
     const glm::dvec3 start = glm::dvec3(origin) + 0.5 * (t_in + std::min(t_out, t_in + 1e-9)) * glm::dvec3(direction);
-    glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor((start - glm::dvec3(lo_)) / glm::dvec3(cell_size_))),
-                                 glm::ivec3(0), cells_ - 1);
+    glm::ivec3 cell = grid_.cell(grid_.index_of(glm::vec3(start)));
     glm::dvec3 t_next, t_step;
     glm::ivec3 step;
     for (int a = 0; a < 3; ++a) {
       step[a] = direction[a] > 0.0f ? 1 : -1;
-      const double boundary = double(lo_[a]) + double(cell[a] + (step[a] > 0 ? 1 : 0)) * double(cell_size_[a]);
+      const double boundary = double(lo[a]) + double(cell[a] + (step[a] > 0 ? 1 : 0)) * double(grid_.cell_size[a]);
       t_next[a] =
           direction[a] != 0.0f ? (boundary - origin[a]) / direction[a] : std::numeric_limits<double>::infinity();
-      t_step[a] = direction[a] != 0.0f ? double(cell_size_[a]) / std::abs(double(direction[a]))
+      t_step[a] = direction[a] != 0.0f ? double(grid_.cell_size[a]) / std::abs(double(direction[a]))
                                        : std::numeric_limits<double>::infinity();
     }
     double t = t_in;
     while (t < t_out) {
       const int a = t_next.x <= t_next.y ? (t_next.x <= t_next.z ? 0 : 2) : (t_next.y <= t_next.z ? 1 : 2);
       const double end = std::min(t_next[a], t_out);
-      along += probability_[cell_index(cell)] * std::max(end - t, 0.0);
+      along += probability_[grid_.index(cell)] * std::max(end - t, 0.0);
       t = end;
       cell[a] += step[a];
-      if (cell[a] < 0 || cell[a] >= cells_[a]) break;
+      if (cell[a] < 0 || cell[a] >= grid_.cells[a]) break;
       t_next[a] += t_step[a];
     }
   }
-  const double volume = double(cell_size_.x) * double(cell_size_.y) * double(cell_size_.z);
+  const double volume = double(grid_.cell_size.x) * double(grid_.cell_size.y) * double(grid_.cell_size.z);
   return float(kUniformShare + (1.0 - kUniformShare) * double(disk_area) * along / volume);
 }
 

@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include "bounce/bounce.h"
+#include "cpu/box_grid.h"
 #include "cpu/cpu_scene.h"
 
 namespace bounce::cpu {
@@ -97,13 +98,8 @@ class LandingGuide {
 
  private:
   float density(glm::vec3 origin, glm::vec3 direction, float disk_area) const;
-  std::size_t cell_index(glm::ivec3 cell) const {
-    return (std::size_t(cell.z) * std::size_t(cells_.y) + std::size_t(cell.y)) * std::size_t(cells_.x) +
-           std::size_t(cell.x);
-  }
 
-  glm::vec3 lo_{0.0f}, cell_size_{1.0f};
-  glm::ivec3 cells_{0};
+  BoxGrid grid_;
   std::vector<double> learned_;
   std::vector<double> cdf_;          // cumulative cell probabilities from 0 (find_in_cdf); empty when uniform
   std::vector<double> probability_;  // per cell, of the guided share

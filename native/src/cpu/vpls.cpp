@@ -131,13 +131,9 @@ void LandingGuide::update() {
   double total = 0.0;
   for (double value : learned_) total += value;
   cdf_.clear();
-  probability_.clear();
   if (!(total > 0.0)) return;
   cdf_.push_back(0.0);
-  for (double value : learned_) {
-    probability_.push_back(value / total);
-    cdf_.push_back(cdf_.back() + value / total);
-  }
+  for (double value : learned_) cdf_.push_back(cdf_.back() + value / total);
 }
 
 LandingGuide::Origin LandingGuide::origin(glm::vec3 uniform_origin, glm::vec3 disk_centre, glm::vec3 direction,
@@ -185,7 +181,8 @@ float LandingGuide::density(glm::vec3 origin, glm::vec3 direction, float disk_ar
     while (t < t_out) {
       const int a = t_next.x <= t_next.y ? (t_next.x <= t_next.z ? 0 : 2) : (t_next.y <= t_next.z ? 1 : 2);
       const double end = std::min(t_next[a], t_out);
-      along += probability_[grid_.index(cell)] * std::max(end - t, 0.0);
+      const std::size_t k = grid_.index(cell);
+      along += (cdf_[k + 1] - cdf_[k]) * std::max(end - t, 0.0);
       t = end;
       cell[a] += step[a];
       if (cell[a] < 0 || cell[a] >= grid_.cells[a]) break;

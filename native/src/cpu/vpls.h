@@ -101,8 +101,7 @@ class LandingGuide {
 
   BoxGrid grid_;
   std::vector<double> learned_;
-  std::vector<double> cdf_;          // cumulative cell probabilities from 0 (find_in_cdf); empty when uniform
-  std::vector<double> probability_;  // per cell, of the guided share
+  std::vector<double> cdf_;  // cumulative cell probabilities from 0 (find_in_cdf); empty when uniform
 };
 
 struct VplOptions {
@@ -115,7 +114,7 @@ struct VplOptions {
   const LandingGuide* world_guide = nullptr;  // none: they emit uniformly
 };
 
-// Paths are shared out among the lights in proportion to their weights (paths_per_light), each carrying its light's
+// Paths are shared out among the lights in proportion to their weights (light_of_paths), each carrying its light's
 // power over its light's path count; a path that escapes or meets a black surface ends early. The VPLs come path
 // after path, each path's in bounce order. Deterministic for a seed, whatever the threads.
 std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> lights, const VplOptions& options);

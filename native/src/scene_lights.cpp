@@ -187,6 +187,20 @@ std::optional<SceneLights::WorldDirection> SceneLights::draw_world(glm::vec2 u) 
   return WorldDirection{direction, texel.radiance, float(double(weight(texel.radiance)) / total)};
 }
 
+BounceLight world_sun(glm::vec3 direction, glm::vec3 irradiance) {
+  BounceLight light{};
+  light.type = BOUNCE_LIGHT_SUN;
+  light.cast_shadow = 1;
+  const glm::vec3 x = any_perpendicular(direction), y = glm::cross(direction, x);
+  for (int i = 0; i < 3; ++i) {
+    light.axis_x[i] = x[i];
+    light.axis_y[i] = y[i];
+    light.axis_z[i] = direction[i];
+    light.intensity[i] = irradiance[i];
+  }
+  return light;
+}
+
 void SceneLights::add_world(const BounceSettings& settings, uint32_t sample, uint32_t seed) {
   world_pdfs_.clear();
   const int count = settings.world_lights;
@@ -197,18 +211,7 @@ void SceneLights::add_world(const BounceSettings& settings, uint32_t sample, uin
     const std::optional<WorldDirection> drawn = draw_world(r2_point(sample * uint32_t(count) + uint32_t(k), rotation));
     if (!drawn) return;
     // Irradiance L / (K p).
-    const glm::vec3 irradiance = drawn->radiance / (float(count) * drawn->pdf);
-    BounceLight light{};
-    light.type = BOUNCE_LIGHT_SUN;
-    light.cast_shadow = 1;
-    const glm::vec3 x = any_perpendicular(drawn->direction), y = glm::cross(drawn->direction, x);
-    for (int i = 0; i < 3; ++i) {
-      light.axis_x[i] = x[i];
-      light.axis_y[i] = y[i];
-      light.axis_z[i] = drawn->direction[i];
-      light.intensity[i] = irradiance[i];
-    }
-    lights_.push_back(light);
+    lights_.push_back(world_sun(drawn->direction, drawn->radiance / (float(count) * drawn->pdf)));
     world_pdfs_.push_back(drawn->pdf);
   }
 }

@@ -54,6 +54,9 @@ struct EmitterOccluder {
 // emitter_occluders.glsl for the CPU's VPLs (the Topology method's clusters and gates).
 bool emitter_between(std::span<const EmitterOccluder> emitters, glm::vec3 y, glm::vec3 x, float margin);
 
+// A sun of `irradiance` shining from unit `direction` (toward the sky): how a direction of the world lights.
+BounceLight world_sun(glm::vec3 direction, glm::vec3 irradiance);
+
 class SceneLights {
  public:
   // The lights of sample `sample` of a render with `seed`: the caller's lamps first (same indices), then the

@@ -403,9 +403,11 @@ uint32_t TopologyRenderer::vpl_cluster(const Vpl& vpl) const {
   return topologies_.latest()->cluster_at(vpl.position, vpl.normal, topology::Topology::Side::Front, reachable);
 }
 
-void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, LightKinds kinds,
-                                    std::span<const EmitterOccluder> emitters, const BounceSettings& settings,
-                                    uint64_t seed, std::span<const Probe> probes, const ClusterGraph& graph) {
+void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, const SceneLights& scene_lights,
+                                    const BounceSettings& settings, uint64_t seed, std::span<const Probe> probes,
+                                    const ClusterGraph& graph) {
+  const LightKinds kinds{scene_lights.lamp_count(), scene_lights.world_count()};
+  const std::span<const EmitterOccluder> emitters = scene_lights.emitter_occluders();
   // Candidates: kCandidatesPerVpl times the VPLs wanted, traced from the lights (a sun's over a disk the size of
   // the scene, so most land where the camera sees nothing: on a roof, outside a window).
   VplOptions options;
@@ -418,6 +420,7 @@ void TopologyRenderer::prepare_vpls(std::span<const BounceLight> lights, LightKi
   options.path_weights = path_weights;
   options.kinds = kinds;
   options.world_guide = &world_guide_;
+  options.world_table = &scene_lights;
   const std::vector<Vpl> candidates = trace_vpls(scene_, lights, options);
   std::vector<uint32_t> candidate_cluster(candidates.size());
   parallel_for(candidates.size(), 0, 64, [&](std::size_t i) { candidate_cluster[i] = vpl_cluster(candidates[i]); });
@@ -635,8 +638,7 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
             probes.push_back({v.surface.position, v.surface.shading_normal, v.surface.albedo, v.cluster,
                               topology::cell_hits(topo.occluders, topo.grid.shape, v.surface.position)});
         }
-      prepare_vpls(lights, {scene_lights.lamp_count(), scene_lights.world_count()}, emitters, settings,
-                   mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
+      prepare_vpls(lights, scene_lights, settings, mix(uint64_t(seed) ^ mix(uint64_t(s))), probes, graph);
     }
     const WorldStrategies world_strategies{scene_lights, settings.world_lights, &sky_guide_};
     {

@@ -43,7 +43,7 @@ class TopologyRenderer {
     uint32_t cluster;
     std::span<const topology::Occluders::Hit> occluder_hits;  // of its cell (topology::cell_hits)
   };
-  void prepare_vpls(std::span<const BounceLight> lights, LightKinds kinds, std::span<const EmitterOccluder> emitters,
+  void prepare_vpls(std::span<const BounceLight> lights, const SceneLights& scene_lights,
                     const BounceSettings& settings, uint64_t seed, std::span<const Probe> probes,
                     const ClusterGraph& graph);
   uint32_t vpl_cluster(const Vpl& vpl) const;

@@ -17,7 +17,7 @@
 namespace bounce::cpu {
 namespace {
 
-enum Purpose : uint64_t { kVplPaths = 11 };
+enum Purpose : uint64_t { kVplPaths = 11, kWorldPathDirections = 12 };
 
 glm::vec3 sphere_direction(float u1, float u2) {
   const float z = 1.0f - 2.0f * u1, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u2;
@@ -216,12 +216,20 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
   if (light_of.empty()) return {};
   std::vector<uint32_t> paths_of(lights.size(), 0);
   for (uint32_t l : light_of) ++paths_of[l];
+  const auto is_world = [&](uint32_t l) {
+    return l >= options.kinds.lamps && l - options.kinds.lamps < options.kinds.world;
+  };
+  // light_of is in the lights' order, so the world's paths are one run: path i is the (i - first_world_path)-th.
+  const auto first_world_path =
+      std::size_t(std::find_if(light_of.begin(), light_of.end(), is_world) - light_of.begin());
+  const auto world_paths = uint32_t(std::count_if(light_of.begin(), light_of.end(), is_world));
+  Rng rotation_rng(options.seed, kWorldPathDirections, 0);
+  const glm::vec2 world_rotation(rotation_rng.next(), rotation_rng.next());
   const glm::vec3 centre = 0.5f * (scene.bounds_min() + scene.bounds_max());
   const float offset = scene.ray_offset();
   std::vector<std::vector<Vpl>> per_path(static_cast<std::size_t>(paths));
   const auto landing_guided = [&](uint32_t l) {
-    return options.world_guide && !options.world_guide->uniform() && l >= options.kinds.lamps &&
-           l - options.kinds.lamps < options.kinds.world && lights[l].type == BOUNCE_LIGHT_SUN;
+    return options.world_guide && !options.world_guide->uniform() && is_world(l) && lights[l].type == BOUNCE_LIGHT_SUN;
   };
   parallel_for(std::size_t(paths), 0, 16, [&](std::size_t i) {
     Rng rng(options.seed, kVplPaths, i);
@@ -230,7 +238,16 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
     const EmissionGuide::Sample guided = l < options.guides.size() && !options.guides[l].uniform()
                                              ? options.guides[l].sample(rng.next(), {u1, u2})
                                              : EmissionGuide::Sample{{u1, u2}, 1.0f};
-    Emission ray = emit(lights[l], centre, radius, offset, guided.emission.x, guided.emission.y, u3, u4);
+    BounceLight light = lights[l];
+    float light_paths = float(paths_of[l]);
+    if (options.world_table && is_world(l)) {
+      // L / p: the world's whole irradiance from this direction, shared by all of the world's paths.
+      const auto drawn = options.world_table->draw_world(r2_point(uint32_t(i - first_world_path), world_rotation));
+      if (!drawn || !(drawn->pdf > 0.0f)) return;
+      light = world_sun(drawn->direction, drawn->radiance / drawn->pdf);
+      light_paths = float(world_paths);
+    }
+    Emission ray = emit(light, centre, radius, offset, guided.emission.x, guided.emission.y, u3, u4);
     float density = guided.density;
     if (landing_guided(l)) {
       // The world's directions are suns: their disks lie 2 radii from the centre, facing them.
@@ -241,7 +258,7 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
       ray.origin = guided_origin.point;
       density = guided_origin.density;
     }
-    glm::vec3 power = ray.power / (float(paths_of[l]) * density);
+    glm::vec3 power = ray.power / (light_paths * density);
     for (int bounce = 1; bounce <= bounces; ++bounce) {
       if (!(weight(power) > 0.0f) || !std::isfinite(weight(power))) break;
       // The origin is already off its surface: a near limit as well would skip an adjoining face within it (the

@@ -245,6 +245,7 @@ std::vector<Vpl> trace_vpls(const CpuScene& scene, std::span<const BounceLight> 
       const auto drawn = options.world_table->draw_world(r2_point(uint32_t(i - first_world_path), world_rotation));
       if (!drawn || !(drawn->pdf > 0.0f)) return;
       light = world_sun(drawn->direction, drawn->radiance / drawn->pdf);
+      dim_to_max_intensity(light.intensity);  // the range policy of SceneLights' own world directions
       light_paths = float(world_paths);
     }
     Emission ray = emit(light, centre, radius, offset, guided.emission.x, guided.emission.y, u3, u4);

@@ -148,6 +148,14 @@ class RenderFixture : public ::testing::Test {
     material.alpha_threshold = 0.5f;
     ASSERT_BOUNCE_OK(bounce_materials_set(engine_, 1, &material));
   }
+  // A world of `radiance` (times `environment`, if given), unrotated.
+  void set_world(glm::vec3 radiance, uint64_t environment = BOUNCE_NO_TEXTURE) {
+    BounceWorld world{};
+    for (int i = 0; i < 3; ++i) world.background[i] = radiance[i];
+    world.environment_texture = environment;
+    world.world_to_environment[0] = world.world_to_environment[4] = world.world_to_environment[8] = 1.0f;
+    ASSERT_BOUNCE_OK(bounce_world_set(engine_, &world));
+  }
   void set_lights(const std::vector<BounceLight>& lights) {
     ASSERT_BOUNCE_OK(bounce_lights_set(engine_, static_cast<uint32_t>(lights.size()), lights.data()));
   }

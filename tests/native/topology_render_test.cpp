@@ -37,11 +37,7 @@ class TopologyRender : public RenderFixture {
     set_instances({1}, {glm::mat4(1.0f)});
     set_albedo(0.7f);
     set_lights({});
-    BounceWorld world{};
-    world.background[0] = world.background[1] = world.background[2] = 1.0f;
-    world.environment_texture = BOUNCE_NO_TEXTURE;
-    world.world_to_environment[0] = world.world_to_environment[4] = world.world_to_environment[8] = 1.0f;
-    ASSERT_BOUNCE_OK(bounce_world_set(engine_, &world));
+    set_world(glm::vec3(1.0f));
     set_camera(glm::lookAt(glm::vec3(5.5f, 0.3f, 2.5f), glm::vec3(1.0f, 4.0f, 1.0f), glm::vec3(0, 0, 1)),
                glm::perspective(glm::radians(70.0f), 1.5f, 0.05f, 100.0f), 48, 32);
   }

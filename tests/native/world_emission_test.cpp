@@ -45,13 +45,6 @@ glm::dvec3 upward_irradiance(int width, int height, const std::vector<float>& rg
 
 class WorldAndEmission : public RenderFixture {
  protected:
-  void set_world(glm::vec3 radiance, uint64_t environment = BOUNCE_NO_TEXTURE) {
-    BounceWorld world{};
-    for (int i = 0; i < 3; ++i) world.background[i] = radiance[i];
-    world.environment_texture = environment;
-    world.world_to_environment[0] = world.world_to_environment[4] = world.world_to_environment[8] = 1.0f;
-    ASSERT_BOUNCE_OK(bounce_world_set(engine_, &world));
-  }
   // Mean of each colour channel.
   static glm::dvec3 mean_rgb(const Image& image) {
     glm::dvec3 sum(0.0);

@@ -13,6 +13,11 @@ namespace {
 
 constexpr float kBinSolidAngle = 4.0f * kPi / float(SkyGuide::kBins);
 
+// The density per steradian of a direction in bin b of a box's cumulative sums (learned: sums[kBins] > 0).
+float bin_pdf(const double* sums, std::size_t b) {
+  return float((sums[b + 1] - sums[b]) / sums[SkyGuide::kBins]) / kBinSolidAngle;
+}
+
 }  // namespace
 
 SkyGuide::SkyGuide(glm::vec3 lo, glm::vec3 hi) : grid_(lo, hi, kCellsPerSide) {
@@ -57,8 +62,7 @@ bool SkyGuide::guides(uint32_t side, glm::vec3 x) const {
 float SkyGuide::pdf(uint32_t side, glm::vec3 x, glm::vec3 w) const {
   const double* sums = cdf(side, x);
   if (!sums || !(sums[kBins] > 0.0)) return 0.0f;
-  const int b = bin_of(w);
-  return float((sums[b + 1] - sums[b]) / sums[kBins]) / kBinSolidAngle;
+  return bin_pdf(sums, std::size_t(bin_of(w)));
 }
 
 std::optional<SkyGuide::Draw> SkyGuide::draw(uint32_t side, glm::vec3 x, float pick, glm::vec2 within) const {
@@ -70,7 +74,7 @@ std::optional<SkyGuide::Draw> SkyGuide::draw(uint32_t side, glm::vec3 x, float p
   const float phi = ((float(sector) + within.y) / float(kSectors) - 0.5f) * 2.0f * kPi;
   const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
   const glm::vec3 direction(r * std::cos(phi), r * std::sin(phi), z);
-  return Draw{direction, float((sums[b + 1] - sums[b]) / sums[kBins]) / kBinSolidAngle};
+  return Draw{direction, bin_pdf(sums, b)};
 }
 
 }  // namespace bounce::cpu

@@ -151,8 +151,9 @@ class BOUNCE_PT_last_render(BouncePanel, bpy.types.Panel):
 # Lines shown at the top of a settings group's panel.
 GROUP_NOTES = {
     "Screen-Space VPL Propagation":
-        "Every light bounces, one per sample drawn by the light it brings into the scene: with several lights "
-        "(or a world, or emissive surfaces) the bounce needs more samples to lose its noise.",
+        "Every light bounces: each sample draws Bouncing Lights of them by the light they bring into the scene, "
+        "so with many lights (a world's directions, emissive surfaces) the bounce needs more samples to lose its "
+        "noise.",
     "Topology":
         "Renders on the CPU. The first render of a scene precomputes the topology of its empty space (cached by "
         "geometry and grid settings: moving the camera or a light reuses it). Rays pass through alpha cut-outs; "

@@ -22,7 +22,7 @@ enum class Stage {
   FlcResolve,          // untiling and blur
   FlcRayChecks,        // Ray Checks: the checked pairs read back, their shadow rays (CPU, Embree), the correction
   TopologyVisibility,  // the pixels' visibility clusters (Forward Light Cuts' Indirect Shadows)
-  SsvpRsm,             // Screen-Space VPL Propagation: the main light's reflective shadow map
+  SsvpRsm,             // Screen-Space VPL Propagation: the bouncing lights' reflective shadow maps
   SsvpCluster,         // first-bounce sampling, k-means, second-bounce propagation (the paper's "Misc")
   SsvpImportance,      // VPL Importance: probes read back, shadow rays to them, resampling (CPU, Embree)
   SsvpParaboloids,     // one paraboloid map per cluster

@@ -13,6 +13,8 @@ layout(std140, binding = 5) uniform SsvpParams {
   float rsm_texel_factor, texels_per_vpl, epsilon, length_scale;
   float w1, w2, paraboloid_far;
   int second_per_cluster, bounces, pattern_rotation;
+  int first_offset;  // while sampling: where this light's VPLs start (first_count: how many)
+  float texels_per_capped_vpl;  // RSM texels / all the sample's first-bounce VPLs: the area that caps them
 } ssvp;
 
 struct Vpl {

@@ -1,6 +1,6 @@
-// First-bounce VPLs (Sec. II-A): one per point of the Hammersley set (Eq. 1), at the reflective shadow map's
-// texel under it. Its flux is what that texel's surface reflects: albedo x irradiance x the area the texel
-// sees, scaled by texels / VPLs so that the VPLs together carry the whole reflected flux.
+// First-bounce VPLs (Sec. II-A) of one bouncing light: one per point of its Hammersley set (Eq. 1), at its
+// reflective shadow map's texel under it. Its flux is what that texel's surface reflects: albedo x irradiance x
+// the area the texel sees, scaled by texels / VPLs so that the VPLs together carry the whole reflected flux.
 #include "common/lights.glsl"
 #include "ssvp/ssvp_common.glsl"
 
@@ -15,8 +15,8 @@ layout(binding = 5) uniform sampler2D rsm_geometric_normal;
 const float MIN_COSINE = 1e-2;  // grazing texels see a long strip; their area is capped there
 
 void main() {
-  uint k = linear_invocation();
-  if (k >= uint(ssvp.first_count)) return;
+  if (linear_invocation() >= uint(ssvp.first_count)) return;
+  uint k = uint(ssvp.first_offset) + linear_invocation();
   ivec2 atlas = ivec2(ssvp.rsm_faces_x, ssvp.rsm_faces_y) * ssvp.rsm_face_size;
   ivec2 texel = min(ivec2(points[k] * vec2(atlas)), atlas - 1);
   vec4 albedo = texelFetch(rsm_albedo, texel, 0);
@@ -44,7 +44,7 @@ void main() {
       area = solid_angle * d2 / max(dot(ng, to_light * inversesqrt(max(d2, 1e-30))), MIN_COSINE);
     }
     vpl.position_cluster = vec4(x, float(k));  // w: its point, until it joins a cluster (SsvpPass::cluster)
-    vpl.normal = vec4(n, area * ssvp.texels_per_vpl);
+    vpl.normal = vec4(n, area * ssvp.texels_per_capped_vpl);
     vpl.flux = vec4(albedo.rgb * irradiance * area * ssvp.texels_per_vpl, 1.0);
     if (any(isnan(vpl.flux)) || any(isinf(vpl.flux))) vpl.flux = vec4(0.0);
   }

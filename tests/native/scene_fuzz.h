@@ -231,6 +231,7 @@ inline BounceSettings random_settings(Random& random) {
       {&BounceSettings::flc_levels, 4},
       {&BounceSettings::ssvp_vpls, 256},
       {&BounceSettings::ssvp_second_vpls, 256},
+      {&BounceSettings::ssvp_bouncing_lights, 8},
       {&BounceSettings::ssvp_clusters, 8},
       {&BounceSettings::ssvp_rsm_size, 128},
       {&BounceSettings::ssvp_paraboloid_size, 64},

@@ -223,39 +223,73 @@ TEST(SsvpKMeans, HardCases) {
   EXPECT_EQ(c.clusters.size(), 2u);
 }
 
-TEST(SsvpMath, BouncingLightIsDrawnByItsFlux) {
+TEST(SsvpMath, BouncingLightsAreDrawnByTheirFlux) {
   BounceLight sun = make_light(BOUNCE_LIGHT_SUN, glm::vec3(0), glm::vec3(3.0f));
   BounceLight point = make_light(BOUNCE_LIGHT_POINT, glm::vec3(0), glm::vec3(10.0f));
   const glm::vec3 centre(0.0f);
+  // One draw: the light under u, weighted by 1 / its share.
   auto draw = [&](const std::vector<BounceLight>& lights, float u) {
-    return ssvp::draw_bouncing_light(lights, centre, 1.0f, u);
+    const std::vector<ssvp::LightDraw> draws = ssvp::draw_bouncing_lights(lights, centre, 1.0f, 1, u);
+    return draws.empty() ? ssvp::LightDraw{} : draws.front();
   };
   // Sun: 3 W/m^2 over pi (1 m)^2 = 9.4 W; point inside: 4 pi 10 = 126 W. Each is drawn for its share of u.
   const float sun_share = 3.0f * kPi / (3.0f * kPi + 40.0f * kPi);
   EXPECT_EQ(draw({sun, point}, 0.5f * sun_share).index, 0);
-  EXPECT_NEAR(draw({sun, point}, 0.5f * sun_share).probability, sun_share, 1e-6);
+  EXPECT_NEAR(draw({sun, point}, 0.5f * sun_share).weight, 1.0f / sun_share, 1e-4);
   EXPECT_EQ(draw({sun, point}, sun_share + 0.01f).index, 1);
-  EXPECT_NEAR(draw({sun, point}, 0.99f).probability, 1.0f - sun_share, 1e-6);
+  EXPECT_NEAR(draw({sun, point}, 0.99f).weight, 1.0f / (1.0f - sun_share), 1e-5);
   EXPECT_EQ(draw({sun, point}, 1.0f).index, 1);  // u's upper end stays on the last light
   // Far outside, the point light sends only a sliver of its flux into the sphere.
   std::memcpy(point.position, &glm::vec3(100, 0, 0)[0], 12);
-  EXPECT_GT(draw({sun, point}, 0.0f).probability, 0.99f);
+  EXPECT_LT(draw({sun, point}, 0.0f).weight, 1.01f);
   // Lights that send nothing are never drawn; with none left, none bounces.
   BounceLight dark = make_light(BOUNCE_LIGHT_POINT, glm::vec3(0), glm::vec3(0.0f));
-  EXPECT_EQ(draw({dark}, 0.5f).index, -1);
+  EXPECT_TRUE(ssvp::draw_bouncing_lights(std::vector<BounceLight>{dark}, centre, 1.0f, 4, 0.5f).empty());
   EXPECT_EQ(draw({dark, sun, dark}, 0.0f).index, 1);
   EXPECT_EQ(draw({dark, sun, dark}, 1.0f).index, 1);
-  EXPECT_EQ(draw({dark, sun, dark}, 0.5f).probability, 1.0f);
+  EXPECT_EQ(draw({dark, sun, dark}, 0.5f).weight, 1.0f);
   // A spot outside the sphere aimed away from it sends nothing.
   BounceLight spot = make_light(BOUNCE_LIGHT_SPOT, glm::vec3(0, 0, 5), glm::vec3(1000.0f));
   const float up[3] = {0, 0, 1};
   std::memcpy(spot.axis_z, up, 12);  // shining along -z, towards the sphere
-  EXPECT_GT(draw({sun, spot}, 0.5f).probability, 0.9f);
+  EXPECT_LT(draw({sun, spot}, 0.5f).weight, 1.1f);
   EXPECT_EQ(draw({sun, spot}, 0.5f).index, 1);
   const float down[3] = {0, 0, -1};
   std::memcpy(spot.axis_z, down, 12);  // shining along +z, away
   EXPECT_EQ(draw({sun, spot}, 0.99f).index, 0);
-  EXPECT_EQ(draw({sun, spot}, 0.99f).probability, 1.0f);
+  EXPECT_EQ(draw({sun, spot}, 0.99f).weight, 1.0f);
+}
+
+// Several draws are systematic: a light of share p is drawn floor(n p) or ceil(n p) times, once in the list, and
+// its weight m / (n p) averages to 1 over u (each light bounces with its own flux).
+TEST(SsvpMath, SeveralDrawsSplitTheLightsBetweenThem) {
+  std::vector<BounceLight> suns;
+  for (float irradiance : {1.0f, 2.0f, 3.0f, 4.0f})
+    suns.push_back(make_light(BOUNCE_LIGHT_SUN, glm::vec3(0), glm::vec3(irradiance)));
+  const int n = 4;
+  std::vector<double> mean_weight(suns.size(), 0.0);
+  constexpr int kSteps = 1000;
+  for (int step = 0; step < kSteps; ++step) {
+    const std::vector<ssvp::LightDraw> draws =
+        ssvp::draw_bouncing_lights(suns, glm::vec3(0.0f), 1.0f, n, (step + 0.5f) / kSteps);
+    int total = 0;
+    for (std::size_t d = 0; d < draws.size(); ++d) {
+      const double share = (draws[d].index + 1) / 10.0;
+      EXPECT_GE(draws[d].draws, int(std::floor(n * share)));
+      EXPECT_LE(draws[d].draws, int(std::ceil(n * share)));
+      EXPECT_NEAR(draws[d].weight, draws[d].draws / (n * share), 1e-5);
+      if (d > 0) EXPECT_LT(draws[d - 1].index, draws[d].index);
+      mean_weight[std::size_t(draws[d].index)] += draws[d].weight / kSteps;
+      total += draws[d].draws;
+    }
+    EXPECT_EQ(total, n);
+  }
+  for (double w : mean_weight) EXPECT_NEAR(w, 1.0, 2e-3);
+  // Four equal suns, four draws: each is drawn once, at its own flux.
+  const std::vector<BounceLight> equal(4, suns[0]);
+  const std::vector<ssvp::LightDraw> draws = ssvp::draw_bouncing_lights(equal, glm::vec3(0.0f), 1.0f, 4, 0.3f);
+  ASSERT_EQ(draws.size(), 4u);
+  for (const ssvp::LightDraw& d : draws) EXPECT_FLOAT_EQ(d.weight, 1.0f);
 }
 
 class Ssvp : public RenderFixture {
@@ -358,6 +392,37 @@ TEST_F(Ssvp, MainLightThatSeesNothing) {
   room(1.0f, spot);
   EXPECT_EQ(render_finite(), 0.0);
   EXPECT_EQ(info().vpl_count, 0u);
+}
+
+// Two equal spots light the floor by the left and by the right wall: each sample bounces both (Bouncing Lights),
+// so one sample lights both halves of the room alike. One draw per sample bounced one of them at twice its light:
+// the first sample lit one half.
+TEST_F(Ssvp, EverySampleBouncesEachLightItDraws) {
+  std::vector<BounceLight> spots;
+  for (float x : {-0.3f, 0.3f}) {
+    BounceLight spot = make_light(BOUNCE_LIGHT_SPOT, glm::vec3(x, 0.0f, 0.4f), glm::vec3(200.0f));
+    spot.spot_half_angle = glm::radians(10.0f);
+    spots.push_back(spot);
+  }
+  room(1.0f, spots[0]);
+  set_lights(spots);
+  settings_.samples = 1;
+  const auto halves = [&](int bouncing_lights) {
+    settings_.ssvp_bouncing_lights = bouncing_lights;
+    const Image indirect = render(BOUNCE_AOV_INDIRECT);
+    EXPECT_TRUE(all_finite(indirect));
+    double left = 0.0, right = 0.0;
+    for (int y = 0; y < indirect.height; ++y)
+      for (int x = 0; x < indirect.width; ++x) (x < indirect.width / 2 ? left : right) += indirect.at(x, y)[0];
+    return std::pair(left, right);
+  };
+  const auto [left_one, right_one] = halves(1);
+  const auto [left, right] = halves(4);
+  std::printf("indirect left / right half: one draw %.4g / %.4g, four draws %.4g / %.4g\n", left_one, right_one, left,
+              right);
+  ASSERT_GT(left, 0.0);
+  EXPECT_NEAR(right / left, 1.0, 0.1);
+  EXPECT_NEAR(left + right, left_one + right_one, 0.1 * (left_one + right_one));  // the same light in all
 }
 
 TEST_F(Ssvp, ClusterNormalAlongAParaboloidHorizon) {

@@ -95,21 +95,30 @@ float estimated_flux_into_sphere(const BounceLight& light, glm::vec3 centre, flo
   }
 }
 
-LightDraw draw_bouncing_light(std::span<const BounceLight> lights, glm::vec3 centre, float radius, float u) {
+std::vector<LightDraw> draw_bouncing_lights(std::span<const BounceLight> lights, glm::vec3 centre, float radius,
+                                            int count, float u) {
   std::vector<double> flux(lights.size());
   double total = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i)
     total += flux[i] = estimated_flux_into_sphere(lights[i], centre, radius);
-  LightDraw draw;
-  if (!(total > 0.0) || !std::isfinite(total)) return draw;
-  double target = std::clamp(double(u), 0.0, 1.0) * total;
-  for (std::size_t i = 0; i < lights.size(); ++i) {
-    if (!(flux[i] > 0.0)) continue;
-    draw = {static_cast<int>(i), static_cast<float>(flux[i] / total)};
-    target -= flux[i];
-    if (target < 0.0) break;
+  std::vector<LightDraw> draws;
+  if (!(total > 0.0) || !std::isfinite(total) || count < 1) return draws;
+  std::vector<int> drawn(lights.size(), 0);
+  for (int j = 0; j < count; ++j) {
+    double target = (j + std::clamp(double(u), 0.0, 1.0)) / count * total;
+    std::size_t chosen = lights.size();
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      if (!(flux[i] > 0.0)) continue;
+      chosen = i;
+      target -= flux[i];
+      if (target < 0.0) break;
+    }
+    ++drawn[chosen];
   }
-  return draw;
+  for (std::size_t i = 0; i < lights.size(); ++i)
+    if (drawn[i] > 0)
+      draws.push_back({static_cast<int>(i), drawn[i], static_cast<float>(drawn[i] * total / (count * flux[i]))});
+  return draws;
 }
 
 Clustering cluster_points(std::span<const ClusterPoint> points, int k, const ClusterMetric& metric,

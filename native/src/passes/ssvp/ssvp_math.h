@@ -32,16 +32,21 @@ std::vector<glm::vec2> hammersley_set(uint32_t n, glm::vec2 rotation);
 // concentric map (area-preserving, so uniform; PBRT's disk sampling, [9] of the paper).
 std::vector<glm::vec2> disk_set(uint32_t n, glm::vec2 rotation);
 
-// The paper bounces one main light, from one reflective shadow map. Every light bounces here, one per sample:
-// the sample's light is drawn by `u` in [0, 1) with probability proportional to its estimated flux into the
-// scene's bounding sphere (centre, radius), and its bounce is weighted by 1 / probability, so that over samples
-// each light bounces with its own weight (a sun with sky and emitters, the furnace's emissive triangles) at the
-// cost of one RSM per sample. index -1 when no light emits into the scene.
+// The paper bounces one main light, from one reflective shadow map. Every light bounces here: each sample makes
+// `count` draws, systematic over the lights' estimated flux into the scene's bounding sphere (centre, radius): draw
+// j falls at (j + u) / count of the lights' cumulative flux, u in [0, 1), so a light of share p is drawn
+// floor(count p) or ceil(count p) times. A light drawn m times bounces once, its intensity weighted by
+// m / (count p) and with m / count of the sample's VPLs: each VPL carries about the same flux, and over samples
+// each light bounces with its own weight. One draw per sample (the former rule) left a sky's first bounce to one
+// of its directions: which one decided where all of it landed (Sponza under forest.exr, 16 samples: 0.86 of
+// Cycles' first bounce). In light-index order; none when no light emits into the scene.
 struct LightDraw {
   int index = -1;
-  float probability = 0.0f;
+  int draws = 0;        // m
+  float weight = 0.0f;  // m / (count p)
 };
-LightDraw draw_bouncing_light(std::span<const BounceLight> lights, glm::vec3 centre, float radius, float u);
+std::vector<LightDraw> draw_bouncing_lights(std::span<const BounceLight> lights, glm::vec3 centre, float radius,
+                                            int count, float u);
 float estimated_flux_into_sphere(const BounceLight& light, glm::vec3 centre, float radius);
 
 struct ClusterPoint {

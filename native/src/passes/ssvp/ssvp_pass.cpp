@@ -58,6 +58,14 @@ std::vector<GpuVpl> read_lit_vpls(gl::Readback& readback, GLuint buffer, std::si
   return lit;
 }
 
+// The rotation of a sample's Hammersley sets over the RSMs and of its disk points. Sample 0 samples the same
+// VPLs every frame (Sec. III-C); later samples rotate the sets.
+glm::vec2 sample_rotation(const RenderContext& context) {
+  if (context.sample == 0) return glm::vec2(0.0f);
+  return r2_point(context.sample, glm::vec2(hash_to_unit(hash_combine(context.seed, 0x5353u)),
+                                            hash_to_unit(hash_combine(context.seed, 0x5354u))));
+}
+
 // The seed of a sample's view samples and of its draws by importance.
 uint32_t importance_key(const RenderContext& context) {
   return hash_combine(context.seed, context.sample ^ 0x494d5054u);
@@ -338,22 +346,24 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   const float scene_radius = context.scene.radius();
   if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
   const auto& lights = context.lights;
-  // Sample 0 draws with no rotation, as it keeps one Hammersley set: a still scene gives the same frame again.
-  const float rotation = context.sample == 0 ? 0.0f : hash_to_unit(hash_combine(context.seed, 0x5355u));
-  const ssvp::LightDraw draw = ssvp::draw_bouncing_light(lights, 0.5f * (lo + hi), scene_radius,
-                                                         r2_point(context.sample, glm::vec2(rotation)).x);
-  main_light_ = draw.index;
-  if (main_light_ < 0) return;
-  BounceLight light = lights[static_cast<std::size_t>(main_light_)];
-  for (float& c : light.intensity) c /= draw.probability;
   const BounceSettings& s = context.settings;
-
-  SsvpParams& p = params_;
-  p = {};
   if (traced && traced->triangle_count() == 0) traced = nullptr;  // nothing to trace: the paper's VPLs
   first_wanted_ = std::clamp(s.ssvp_vpls, 1, 1 << 16);
   second_wanted_ = std::clamp(s.ssvp_second_vpls, 1, 1 << 16);
-  p.first_count = traced ? first_wanted_ * cpu::kCandidatesPerVpl : first_wanted_;
+  const int candidates = traced ? first_wanted_ * cpu::kCandidatesPerVpl : first_wanted_;
+  // Sample 0 draws with no rotation, as it keeps one Hammersley set: a still scene gives the same frame again.
+  // No more draws than candidates, so that each light drawn gets one.
+  const float rotation = context.sample == 0 ? 0.0f : hash_to_unit(hash_combine(context.seed, 0x5355u));
+  const int draw_count = std::clamp(s.ssvp_bouncing_lights, 1, std::min(64, candidates));
+  const std::vector<ssvp::LightDraw> draws = ssvp::draw_bouncing_lights(
+      lights, 0.5f * (lo + hi), scene_radius, draw_count, r2_point(context.sample, glm::vec2(rotation)).x);
+  if (draws.empty()) return;
+  main_light_ = std::max_element(draws.begin(), draws.end(), [](const auto& a, const auto& b) {
+                  return a.draws < b.draws;
+                })->index;
+
+  SsvpParams& p = params_;
+  p = {};
   p.tiles_per_axis = 1 << std::clamp(s.ssvp_tiling, 0, 4);
   p.epsilon = s.ssvp_distance_clamp * scene_radius;
   p.length_scale = 2.0f * scene_radius;
@@ -366,17 +376,31 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
       context.sample == 0 ? 0 : static_cast<int32_t>(hash_combine(context.seed, context.sample) % 65536u);
 
   if (context.sample == 0 || guides_.size() != lamp_count) guides_.assign(lamp_count, cpu::EmissionGuide{});
-  cpu::EmissionGuide* guide =
-      traced && std::size_t(main_light_) < guides_.size() ? &guides_[std::size_t(main_light_)] : nullptr;
-  render_rsm(context, gbuffers, light);
-  sample_first_bounce(context, light, guide);
+  // Each light drawn m times of `draw_count` samples m / draw_count of the candidates.
+  prepare_candidates(context, static_cast<uint32_t>(candidates));
+  rsms_.resize(std::max(rsms_.size(), draws.size()));
+  std::vector<bool> claimed(rsms_.size(), false);
+  int drawn_before = 0;
+  for (const ssvp::LightDraw& draw : draws) {
+    const uint32_t begin = static_cast<uint32_t>(int64_t(candidates) * drawn_before / draw_count);
+    drawn_before += draw.draws;
+    const uint32_t end = static_cast<uint32_t>(int64_t(candidates) * drawn_before / draw_count);
+    const std::size_t index = static_cast<std::size_t>(draw.index);
+    BounceLight light = lights[index];
+    const Rsm& rsm = render_rsm(context, gbuffers, light, claimed);
+    for (float& c : light.intensity) c *= draw.weight;
+    sample_first_bounce(context, rsm, light, traced && index < guides_.size() ? &guides_[index] : nullptr, begin,
+                        end - begin);
+  }
+  p.first_count = candidates;
+  p.first_offset = 0;
   std::vector<Probe> probes;
   if (traced) {
     StageScope scope(context.timer, Stage::SsvpImportance);
     probes = cpu::camera_probes(context.view_projection, *traced, importance_key(context));
   }
   // Traced with VPL Importance, else propagated below.
-  std::vector<GpuVpl> second = cluster(context, traced, probes, guide);
+  std::vector<GpuVpl> second = cluster(context, traced, probes);
   if (clusters_.empty()) {
     first_count_ = 0;
     return;
@@ -404,19 +428,27 @@ void SsvpPass::shade(const RenderContext& context, const GBuffer& camera) {
   draw_debug(context, camera);
 }
 
-void SsvpPass::render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light) {
+const SsvpPass::Rsm& SsvpPass::render_rsm(const RenderContext& context, const GBufferPass& gbuffers,
+                                          const BounceLight& light, std::vector<bool>& claimed) {
   const LightViewKind kind = light_view_kind(light);
   // A cube's faces sit in a 3 x 2 atlas, so one Hammersley set over the atlas samples all of them.
   const int faces_x = kind == kLightViewCube ? 3 : 1, faces_y = kind == kLightViewCube ? 2 : 1;
   const int size = size_within_budget(std::clamp(context.settings.ssvp_rsm_size, 16, 8192), 64, faces_x * faces_y,
-                                      kGBufferBytesPerTexel, kRsmMemoryBudget);
-  const bool reuse = rsm_.gbuffer.width == faces_x * size && rsm_.gbuffer.height == faces_y * size &&
-                     rsm_.geometry_version == context.scene.geometry_version() &&
-                     std::memcmp(&rsm_.light, &light, sizeof light) == 0;
-  if (!reuse) {
+                                      kGBufferBytesPerTexel, kRsmMemoryBudget / double(rsms_.size()));
+  const auto kept = [&](const Rsm& rsm) {
+    return rsm.gbuffer.width == faces_x * size && rsm.gbuffer.height == faces_y * size &&
+           rsm.geometry_version == context.scene.geometry_version() &&
+           std::memcmp(&rsm.light, &light, sizeof light) == 0;
+  };
+  std::size_t slot = 0;
+  while (slot < rsms_.size() && (claimed[slot] || !kept(rsms_[slot]))) ++slot;
+  if (slot == rsms_.size()) slot = std::size_t(std::find(claimed.begin(), claimed.end(), false) - claimed.begin());
+  claimed[slot] = true;
+  Rsm& rsm = rsms_[slot];
+  if (!kept(rsm)) {
     StageScope scope(context.timer, Stage::SsvpRsm);
-    if (rsm_.gbuffer.width != faces_x * size || rsm_.gbuffer.height != faces_y * size)
-      rsm_.gbuffer = make_gbuffer(faces_x * size, faces_y * size);
+    if (rsm.gbuffer.width != faces_x * size || rsm.gbuffer.height != faces_y * size)
+      rsm.gbuffer = make_gbuffer(faces_x * size, faces_y * size);
     const glm::vec3 origin =
         kind == kLightViewOrthographic ? glm::normalize(vec3_of(light.axis_z)) : vec3_of(light.position);
     const LightViews views = light_views(light, origin, context.scene.bounds_min(), context.scene.bounds_max(), size);
@@ -431,59 +463,78 @@ void SsvpPass::render_rsm(const RenderContext& context, const GBufferPass& gbuff
                        kind == kLightViewOrthographic,
                        {(f % 3) * size, (f / 3) * size, size, size}});
     }
-    gbuffers.render(rsm_.gbuffer, faces, context.scene);
-    rsm_.light = light;
-    rsm_.geometry_version = context.scene.geometry_version();
-    rsm_.face_size = size;
-    rsm_.faces_x = faces_x;
-    rsm_.faces_y = faces_y;
-    rsm_.kind = kind;
-    rsm_.origin = origin;
-    rsm_.texel_factor = views.texel_factor;
+    gbuffers.render(rsm.gbuffer, faces, context.scene);
+    rsm.light = light;
+    rsm.geometry_version = context.scene.geometry_version();
+    rsm.face_size = size;
+    rsm.faces_x = faces_x;
+    rsm.faces_y = faces_y;
+    rsm.kind = kind;
+    rsm.origin = origin;
+    rsm.texel_factor = views.texel_factor;
     gl::check("rendering the reflective shadow map");
   }
-  params_.light_origin[0] = rsm_.origin.x;
-  params_.light_origin[1] = rsm_.origin.y;
-  params_.light_origin[2] = rsm_.origin.z;
-  params_.light_origin[3] = static_cast<float>(rsm_.kind);
-  params_.rsm_face_size = rsm_.face_size;
-  params_.rsm_faces_x = rsm_.faces_x;
-  params_.rsm_faces_y = rsm_.faces_y;
-  params_.rsm_texel_factor = rsm_.texel_factor;
+  return rsm;
 }
 
-void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLight& light,
-                                   const cpu::EmissionGuide* guide) {
-  StageScope scope(context.timer, Stage::SsvpCluster);
+void SsvpPass::prepare_candidates(const RenderContext& context, uint32_t count) {
   SsvpParams& p = params_;
-  const uint32_t n = static_cast<uint32_t>(p.first_count);
-  p.texels_per_vpl = static_cast<float>(double(rsm_.gbuffer.width) * rsm_.gbuffer.height / n);
-  // Sample 0 samples the same VPLs every frame (Sec. III-C); later samples rotate the set over the RSM.
-  const glm::vec2 rotation =
-      context.sample == 0 ? glm::vec2(0.0f)
-                          : r2_point(context.sample, glm::vec2(hash_to_unit(hash_combine(context.seed, 0x5353u)),
-                                                               hash_to_unit(hash_combine(context.seed, 0x5354u))));
   // The second bounce's disk points follow the first-bounce points in the same buffer, once cluster() knows
   // how many of those found a surface.
   const int clusters_wanted = std::clamp(context.settings.ssvp_clusters, 1, 256);
   p.second_per_cluster =
       std::max(kMinSecondPerCluster,
                (std::clamp(context.settings.ssvp_second_vpls, 1, 1 << 16) + clusters_wanted - 1) / clusters_wanted);
+  const glm::vec2 rotation = sample_rotation(context);
   disk_points_ = ssvp::disk_set(static_cast<uint32_t>(p.second_per_cluster), glm::vec2(rotation.y, rotation.x));
-  std::vector<glm::vec2>& points = candidate_points_;
-  points = ssvp::hammersley_set(n, rotation);
-  candidate_weights_.assign(n, 1.0f);
+  candidate_points_.assign(count, glm::vec2(0.0f));
+  candidate_weights_.assign(count, 1.0f);
+  candidate_guides_.assign(count, nullptr);
+  sample_guides_.clear();
+  gl::reserve_buffer(points_, points_capacity_, (count + disk_points_.size()) * sizeof(glm::vec2));
+  gl::reserve_buffer(first_vpls_, first_capacity_, count * sizeof(GpuVpl));
+}
+
+void SsvpPass::sample_first_bounce(const RenderContext& context, const Rsm& rsm, const BounceLight& light,
+                                   cpu::EmissionGuide* guide, uint32_t offset, uint32_t count) {
+  StageScope scope(context.timer, Stage::SsvpCluster);
+  SsvpParams& p = params_;
+  p.light_origin[0] = rsm.origin.x;
+  p.light_origin[1] = rsm.origin.y;
+  p.light_origin[2] = rsm.origin.z;
+  p.light_origin[3] = static_cast<float>(rsm.kind);
+  p.rsm_face_size = rsm.face_size;
+  p.rsm_faces_x = rsm.faces_x;
+  p.rsm_faces_y = rsm.faces_y;
+  p.rsm_texel_factor = rsm.texel_factor;
+  p.first_offset = static_cast<int32_t>(offset);
+  p.first_count = static_cast<int32_t>(count);
+  const double texels = double(rsm.gbuffer.width) * rsm.gbuffer.height;
+  p.texels_per_vpl = static_cast<float>(texels / count);
+  // The area a VPL stands for caps the light it gives (vpl_irradiance in ssvp_common.glsl). Each light's share of
+  // the candidates would make it that light's texels / its share: a light drawn once of four would have its cap
+  // four times as strict as when it was drawn alone, and the cap's bias (it does not fade over samples, only with
+  // more VPLs) grew: a sky-lit room's first bounce stayed at 1.2e-4 relMSE from 16 to 64 samples. So the cap
+  // keeps the area as if the light had all the sample's candidates, as one light bounced alone has.
+  p.texels_per_capped_vpl = static_cast<float>(texels / candidate_points_.size());
+  const glm::vec2 rotation = sample_rotation(context);
+  const std::vector<glm::vec2> set = ssvp::hammersley_set(count, rotation);
   // A guided candidate's cell follows the set's first coordinate (stratified), its place in the cell the second
   // and an R2 coordinate; its flux and area are divided by the guide's density there (cluster()).
-  if (guide && !guide->uniform())
-    for (uint32_t k = 0; k < n; ++k) {
-      const cpu::EmissionGuide::Sample guided = guide->sample(points[k].x, {points[k].y, r2_point(k, rotation).x});
-      points[k] = guided.emission;
-      candidate_weights_[k] = 1.0f / guided.density;
+  if (guide) sample_guides_.push_back(guide);
+  const bool guided = guide && !guide->uniform();
+  for (uint32_t k = 0; k < count; ++k) {
+    glm::vec2 point = set[k];
+    if (guided) {
+      const cpu::EmissionGuide::Sample sample = guide->sample(point.x, {point.y, r2_point(k, rotation).x});
+      point = sample.emission;
+      candidate_weights_[offset + k] = 1.0f / sample.density;
     }
-  gl::reserve_buffer(points_, points_capacity_, (points.size() + disk_points_.size()) * sizeof(glm::vec2));
-  glNamedBufferSubData(points_.id(), 0, static_cast<GLsizeiptr>(points.size() * sizeof(glm::vec2)), points.data());
-  gl::reserve_buffer(first_vpls_, first_capacity_, n * sizeof(GpuVpl));
+    candidate_points_[offset + k] = point;
+    candidate_guides_[offset + k] = guide;
+  }
+  glNamedBufferSubData(points_.id(), static_cast<GLintptr>(offset * sizeof(glm::vec2)),
+                       static_cast<GLsizeiptr>(count * sizeof(glm::vec2)), candidate_points_.data() + offset);
   glNamedBufferSubData(params_buffer_.id(), 0, sizeof p, &p);
 
   LightBlock block = make_light_block(light);
@@ -492,15 +543,15 @@ void SsvpPass::sample_first_bounce(const RenderContext& context, const BounceLig
   glBindBufferBase(GL_UNIFORM_BUFFER, kParamsBlock, params_buffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPointsBinding, points_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFirstBinding, first_vpls_.id());
-  rsm_.gbuffer.bind_for_reading();
+  rsm.gbuffer.bind_for_reading();
   glUseProgram(sample_program_.id());
-  gl::dispatch_linear(n, 64);
+  gl::dispatch_linear(count, 64);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
   gl::check("sampling the first-bounce VPLs");
 }
 
 std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::CpuScene* traced,
-                                      std::span<const Probe> probes, cpu::EmissionGuide* guide) {
+                                      std::span<const Probe> probes) {
   SsvpParams& p = params_;
   std::vector<GpuVpl> candidates, second;
   {
@@ -513,18 +564,17 @@ std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::C
     const uint32_t key = importance_key(context);
     // A candidate stands for 1 / density of the area it would without a guide (ssvp_sample.comp keeps its point's
     // index in position_cluster.w until it joins a cluster).
-    if (guide)
-      for (GpuVpl& candidate : candidates) {
-        const float weight = candidate_weights_[std::size_t(candidate.position_cluster.w)];
-        candidate.flux = glm::vec4(glm::vec3(candidate.flux) * weight, candidate.flux.w);
-        candidate.normal.w *= weight;
-      }
-    const std::vector<float> importance = candidate_importance(candidates, probes, *traced, p.epsilon);
-    if (guide) {
-      for (std::size_t i = 0; i < candidates.size(); ++i)
-        guide->learn(candidate_points_[std::size_t(candidates[i].position_cluster.w)], importance[i]);
-      guide->update();
+    for (GpuVpl& candidate : candidates) {
+      const float weight = candidate_weights_[std::size_t(candidate.position_cluster.w)];
+      candidate.flux = glm::vec4(glm::vec3(candidate.flux) * weight, candidate.flux.w);
+      candidate.normal.w *= weight;
     }
+    const std::vector<float> importance = candidate_importance(candidates, probes, *traced, p.epsilon);
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      const std::size_t k = std::size_t(candidates[i].position_cluster.w);
+      if (candidate_guides_[k]) candidate_guides_[k]->learn(candidate_points_[k], importance[i]);
+    }
+    for (cpu::EmissionGuide* guide : sample_guides_) guide->update();
     vpls = keep_by_importance(candidates, importance, first_wanted_, hash_to_unit(hash_combine(key, 1u)));
     if (p.bounces > 1)
       second = trace_second_bounce(candidates, second_wanted_, probes, *traced, p.epsilon, hash_combine(key, 0x32u));

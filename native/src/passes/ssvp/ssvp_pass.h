@@ -1,13 +1,14 @@
 // Screen-Space VPL Propagation (Aranha et al. 2020): one or two diffuse bounces of every light.
-// Shaders: shaders/ssvp/. Per sample (Fig. 1), for one light drawn by its flux (ssvp::draw_bouncing_light):
-//   rsm          - the light's reflective shadow map (Sec. II-A, Dachsbacher and Stamminger 2005): the
+// Shaders: shaders/ssvp/. Per sample (Fig. 1), for the lights drawn by their flux (ssvp::draw_bouncing_lights):
+//   rsm          - each light's reflective shadow map (Sec. II-A, Dachsbacher and Stamminger 2005): the
 //                  G-buffer program drawn from the light's views (passes/light_views.h, as its shadow map). Sun:
 //                  orthographic over the scene's bounding sphere; spot up to 75 degrees: one perspective face over
 //                  its cone; point, area and wider spots: the six faces of a cube around the light's centre, in a
 //                  3x2 atlas (the back face of an area light stays empty), which covers all they emit. Kept while
 //                  the light and the geometry are unchanged.
-//   sample       - first-bounce VPLs at the texels of a 2-D Hammersley set (Eq. 1), each carrying its texel's
-//                  reflected flux: albedo x irradiance x the surface area the texel sees, times texels / VPLs.
+//   sample       - first-bounce VPLs at the texels of a 2-D Hammersley set (Eq. 1) per light, of its share of
+//                  the VPLs, each carrying its texel's reflected flux: albedo x irradiance x the surface area the
+//                  texel sees, times texels / VPLs.
 //                  With VPL Importance (not in the paper), 8 times as many candidates, of which the VPLs kept
 //                  are resampled on the CPU in proportion to the light they give the surfaces that camera rays
 //                  through an 8 x 8 grid over the view meet, shadow rays included (Embree; as the Topology
@@ -56,11 +57,13 @@ struct SsvpParams {
   int32_t first_count, second_count, cluster_count, tiles_per_axis;
   int32_t rsm_face_size, rsm_faces_x, rsm_faces_y, paraboloid_size;
   float rsm_texel_factor;  // sun: the texel's side in world units; perspective: 2 tan(half fov) / size
-  float texels_per_vpl;    // RSM texels / first-bounce VPLs
+  float texels_per_vpl;    // RSM texels / this light's first-bounce VPLs
   float epsilon;           // distance clamp in world units
   float length_scale;      // the scene's diameter (Eq. 2)
   float w1, w2, paraboloid_far;
   int32_t second_per_cluster, bounces, pattern_rotation;
+  int32_t first_offset;         // while sampling: where this light's VPLs start (first_count: how many)
+  float texels_per_capped_vpl;  // RSM texels / all the sample's first-bounce VPLs: the area that caps them
 };
 
 class SsvpPass {
@@ -83,7 +86,8 @@ class SsvpPass {
   GLuint debug() const { return debug_.id(); }  // RGBA16F
   uint32_t vpl_count() const { return first_count_ + second_count_; }
   uint32_t cluster_count() const { return static_cast<uint32_t>(clusters_.size()); }
-  int main_light() const { return main_light_; }  // index in the sample's lights of the one that bounced
+  // Index in the sample's lights of the one drawn most often to bounce.
+  int main_light() const { return main_light_; }
 
  private:
   struct Rsm {
@@ -95,11 +99,17 @@ class SsvpPass {
     float texel_factor = 0.0f;
   };
 
-  void render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light);
-  void sample_first_bounce(const RenderContext& context, const BounceLight& light, const cpu::EmissionGuide* guide);
+  // The RSM of `light` (unweighted): a slot's kept one when it is of the same light and geometry, else drawn into
+  // a slot that no light of this sample has claimed yet.
+  const Rsm& render_rsm(const RenderContext& context, const GBufferPass& gbuffers, const BounceLight& light,
+                        std::vector<bool>& claimed);
+  void prepare_candidates(const RenderContext& context, uint32_t count);
+  // The candidates [offset, offset + count) from `rsm`, of `light` weighted by its draws.
+  void sample_first_bounce(const RenderContext& context, const Rsm& rsm, const BounceLight& light,
+                           cpu::EmissionGuide* guide, uint32_t offset, uint32_t count);
   // Returns the second-bounce VPLs when it traces them (VPL Importance), else none.
   std::vector<GpuVpl> cluster(const RenderContext& context, const cpu::CpuScene* traced,
-                              std::span<const cpu::ViewProbe> probes, cpu::EmissionGuide* guide);
+                              std::span<const cpu::ViewProbe> probes);
   void allocate_paraboloids(const RenderContext& context, int layers);
   void render_paraboloids(const RenderContext& context, int begin, int end);  // layers [begin, end)
   void propagate(const RenderContext& context);
@@ -115,7 +125,7 @@ class SsvpPass {
   gl::Readback first_vpls_readback_, second_vpls_readback_;
   std::size_t points_capacity_ = 0, first_capacity_ = 0, clusters_capacity_ = 0, second_capacity_ = 0;
   SsvpParams params_{};
-  Rsm rsm_;
+  std::vector<Rsm> rsms_;  // one per light drawn in a sample, kept for the next
 
   gl::Texture paraboloid_position_, paraboloid_normal_, paraboloid_albedo_, paraboloid_depth_;
   gl::Framebuffer paraboloid_target_;
@@ -131,8 +141,10 @@ class SsvpPass {
   // Where the first-bounce candidates fall on each lamp's RSM (with VPL Importance): learned over a render's
   // samples from the candidates' importance, as the Topology method guides its lamps' emission (cpu/vpls.h).
   std::vector<cpu::EmissionGuide> guides_;
-  std::vector<glm::vec2> candidate_points_;  // this sample's, over the RSM atlas
-  std::vector<float> candidate_weights_;     // 1 / the guide's density there
+  std::vector<glm::vec2> candidate_points_;            // this sample's, over their light's RSM atlas
+  std::vector<float> candidate_weights_;               // 1 / the guide's density there
+  std::vector<cpu::EmissionGuide*> candidate_guides_;  // their light's guide (null: none)
+  std::vector<cpu::EmissionGuide*> sample_guides_;     // the guides of this sample's lights
   std::vector<ssvp::Cluster> clusters_, previous_clusters_;
   std::vector<ssvp::Cluster> second_clusters_, previous_second_clusters_;  // their maps follow the first's
   uint32_t first_count_ = 0, second_count_ = 0;

@@ -6,6 +6,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "cpu/vpls.h"
 #include "radiometry.h"
 #include "scene_data.h"
 
@@ -97,27 +98,19 @@ float estimated_flux_into_sphere(const BounceLight& light, glm::vec3 centre, flo
 
 std::vector<LightDraw> draw_bouncing_lights(std::span<const BounceLight> lights, glm::vec3 centre, float radius,
                                             int count, float u) {
-  std::vector<double> flux(lights.size());
+  std::vector<float> flux(lights.size());
   double total = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i)
     total += flux[i] = estimated_flux_into_sphere(lights[i], centre, radius);
   std::vector<LightDraw> draws;
-  if (!(total > 0.0) || !std::isfinite(total) || count < 1) return draws;
-  std::vector<int> drawn(lights.size(), 0);
-  for (int j = 0; j < count; ++j) {
-    double target = (j + std::clamp(double(u), 0.0, 1.0)) / count * total;
-    std::size_t chosen = lights.size();
-    for (std::size_t i = 0; i < lights.size(); ++i) {
-      if (!(flux[i] > 0.0)) continue;
-      chosen = i;
-      target -= flux[i];
-      if (target < 0.0) break;
-    }
-    ++drawn[chosen];
+  if (!(total > 0.0) || !std::isfinite(total)) return draws;
+  // cpu::resample's draws come in index order, each weighted 1 / (count p): a light's m draws add up to m / (count p).
+  for (const cpu::Draw& draw : cpu::resample(flux, count, /*uniform_share=*/0.0f, std::clamp(u, 0.0f, 1.0f))) {
+    if (draws.empty() || draws.back().index != static_cast<int>(draw.index))
+      draws.push_back({static_cast<int>(draw.index), 0, 0.0f});
+    ++draws.back().draws;
+    draws.back().weight += draw.weight;
   }
-  for (std::size_t i = 0; i < lights.size(); ++i)
-    if (drawn[i] > 0)
-      draws.push_back({static_cast<int>(i), drawn[i], static_cast<float>(drawn[i] * total / (count * flux[i]))});
   return draws;
 }
 

@@ -29,6 +29,12 @@ struct FramePlan {
   float near_field_clamp = 0.0f;  // a fraction of the scene's radius
   int near_field_blur = 0;
 
+  // The sample's world directions are drawn where their light reaches the view (cpu/world_reach.h), where the
+  // world's light comes from those shared directions (SSVP's reflective shadow maps; shadow-mapped direct light
+  // and the Forward Light Cuts VPLs it lights; ray-traced light draws directions per point) and Embree's copy of
+  // the scene is there anyway.
+  bool guide_world = false;
+
   // Embree's copy of the scene: for ray-traced direct light, the Topology method, building the topology and tracing
   // VPL importance.
   bool needs_cpu_scene() const {
@@ -64,6 +70,10 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
     default:  // DIRECT (AUTO renders with the explicit method of its plan: auto_plan.h)
       break;
   }
+  plan.guide_world =
+      (plan.indirect == FramePlan::Indirect::Ssvp ||
+       (plan.indirect == FramePlan::Indirect::ForwardLightCuts && plan.direct == FramePlan::Direct::ShadowMaps)) &&
+      plan.needs_cpu_scene();
   if (plan.near_field_clamp > 0.0f) {
     plan.near_field = plan.direct == FramePlan::Direct::RayTraced ? FramePlan::NearField::RayTraced
                                                                   : FramePlan::NearField::FromGBuffer;

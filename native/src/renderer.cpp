@@ -11,6 +11,7 @@
 
 #include "auto_plan.h"
 #include "common/fault_injection.h"
+#include "cpu/view_probes.h"
 #include "error.h"
 #include "sample_schedule.h"
 #include "sampling.h"
@@ -219,6 +220,10 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     into.info.samples = samples_done;
     timer_.fill(into.info);
   };
+  auto view_projection_of = [&](const Tile& tile, glm::vec2 jitter) {
+    return tile_matrix(camera.width, camera.height, tile.x, tile.y, tile.width, tile.height, jitter) * projection *
+           world_to_view;
+  };
   auto context_of = [&](const Tile& tile, uint32_t sample, glm::vec2 jitter, const std::vector<BounceLight>& lights) {
     return RenderContext{scene_,
                          lights,
@@ -227,8 +232,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
                          tile.width,
                          tile.height,
                          glm::ivec2(tile.x, tile.y),
-                         tile_matrix(camera.width, camera.height, tile.x, tile.y, tile.width, tile.height, jitter) *
-                             projection * world_to_view,
+                         view_projection_of(tile, jitter),
                          world_to_view,
                          glm::vec3(view_to_world[3]),
                          -glm::normalize(glm::vec3(view_to_world[2])),
@@ -247,10 +251,25 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   for (int s = 0; s < samples; ++s) {
     const glm::vec2 u = s == 0 ? glm::vec2(0.5f) : r2_point(static_cast<uint32_t>(s), jitter_rotation);
     const glm::vec2 jitter = (u - 0.5f) * settings.filter_width;
+    const Tile frame_tile{x0, y0, x1 - x0, y1 - y0};
+    // The guide learns from view probes of its own before the sample draws its directions (so sample 0 is guided
+    // too): it does not depend on the directions it guides, which keeps them unbiased.
+    if (s == 0) world_reach_.reset();
+    const bool guided = plan.guide_world && scene_lights_.world_lights(scene_, settings);
+    if (guided) {
+      StageScope scope(timer_, Stage::WorldGuide);
+      const uint32_t key = hash_combine(hash_combine(seed, static_cast<uint32_t>(s)), 0x5752u);
+      world_reach_.learn(cpu_scene_, cpu::camera_probes(view_projection_of(frame_tile, jitter), cpu_scene_, key),
+                         plan.direct == FramePlan::Direct::ShadowMaps, key);
+    }
+    // Its table changes only at samples 0, 1, 2, 4, 8, ... (the doubling iterations of Müller et al. 2017): the
+    // samples in between draw consecutive points of one R2 sequence through the same table, stratified together.
+    // (Changed every sample, the sunlit room under its sun and sky had its first bounce's spread over seeds 0-5
+    // at 16 samples grow from 0.153 of Cycles' unguided to 0.264.)
+    if ((s & (s - 1)) == 0) scene_lights_.guide_world(guided ? world_reach_.reach() : std::span<const float>{});
     const std::vector<BounceLight>& lights = scene_lights_.sample(scene_, settings, static_cast<uint32_t>(s), seed);
     bind_emitter_occluders(scene_lights_.emitter_occluders());
-    const RenderContext frame_context =
-        context_of({x0, y0, x1 - x0, y1 - y0}, static_cast<uint32_t>(s), jitter, lights);
+    const RenderContext frame_context = context_of(frame_tile, static_cast<uint32_t>(s), jitter, lights);
     if (flc) {
       if (callbacks.cancelled()) return false;
       flc_.generate(frame_context, plan.vpl_candidates);
@@ -264,7 +283,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     }
     if (ssvp) {
       if (callbacks.cancelled()) return false;
-      ssvp_.generate(frame_context, gbuffer_, plan.vpl_importance ? &cpu_scene_ : nullptr, scene_lights_.lamp_count());
+      ssvp_.generate(frame_context, gbuffer_, plan.vpl_importance ? &cpu_scene_ : nullptr, scene_lights_);
       vpl_count = ssvp_.vpl_count();
       cluster_count = ssvp_.cluster_count();
       const bool lamp = ssvp_.main_light() >= 0 && std::size_t(ssvp_.main_light()) < scene_lights_.lamp_count();

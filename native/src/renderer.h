@@ -15,6 +15,7 @@
 #include "cost_model.h"
 #include "cpu/scene_analysis.h"
 #include "cpu/topology_renderer.h"
+#include "cpu/world_reach.h"
 #include "frame.h"
 #include "frame_plan.h"
 #include "gpu_scene.h"
@@ -57,7 +58,8 @@ class Renderer {
 
   GpuScene scene_;
   SceneLights scene_lights_;
-  cpu::CpuScene cpu_scene_;  // Embree's copy of the scene: ray-traced direct light and the Topology method
+  cpu::CpuScene cpu_scene_;      // Embree's copy of the scene: ray-traced direct light and the Topology method
+  cpu::WorldReach world_reach_;  // learned over a render's samples, for FramePlan::guide_world
   StageTimer timer_;
   CostModel& costs_;            // Auto's: this device's (the GL renderer's and the CPU threads')
   gl::Buffer settings_buffer_;  // the `Settings` uniform block of every shader

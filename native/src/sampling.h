@@ -125,4 +125,27 @@ inline glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
   return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
 }
 
+// Bins of equal solid angle over the unit sphere, for what is learned by direction (cpu::SkyGuide, cpu::WorldReach):
+// kRings bands of equal height in z (so of equal solid angle, after Archimedes) by kSectors of azimuth.
+namespace sphere_bins {
+inline constexpr int kRings = 8, kSectors = 16, kCount = kRings * kSectors;
+inline constexpr float kSolidAngle = 4.0f * 3.14159265358979f / float(kCount);
+
+inline int of(glm::vec3 w) {
+  const int ring = std::clamp(int((w.z + 1.0f) * 0.5f * float(kRings)), 0, kRings - 1);
+  const float turn = std::atan2(w.y, w.x) / 6.28318530717959f + 0.5f;
+  const int sector = std::clamp(int(turn * float(kSectors)), 0, kSectors - 1);
+  return ring * kSectors + sector;
+}
+
+// The unit direction at `within` in [0, 1)^2 of bin `bin`, uniform in solid angle over the bin.
+inline glm::vec3 direction(int bin, glm::vec2 within) {
+  const int ring = bin / kSectors, sector = bin % kSectors;
+  const float z = -1.0f + 2.0f * (float(ring) + within.x) / float(kRings);
+  const float phi = ((float(sector) + within.y) / float(kSectors) - 0.5f) * 6.28318530717959f;
+  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+}  // namespace sphere_bins
+
 }  // namespace bounce

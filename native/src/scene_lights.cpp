@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -41,6 +42,20 @@ namespace {
 // The world's importance table is the environment averaged down to at most this many texels a side (power is
 // kept; a sun of one pixel keeps its share, spread over one table texel: 0.7 degrees).
 constexpr int kWorldTableWidth = 512, kWorldTableHeight = 256;
+// And at least this many, so that the guided draws (guide_world) can tell the bins of direction apart, even under a
+// uniform world: two texels a side per bin (sphere_bins).
+constexpr int kWorldTableMinWidth = 2 * sphere_bins::kSectors, kWorldTableMinHeight = 2 * sphere_bins::kRings;
+
+// The pixels [first, last) of an image `pixels` wide that table texel `texel` of `texels` covers; in a table finer
+// than the image, the pixel its centre falls in (a texel that straddles two pixels would otherwise take the first,
+// and the image's colours would shift by up to a texel).
+std::pair<int, int> pixel_span(int texel, int texels, int pixels) {
+  if (pixels < texels) {
+    const int centre = std::min((2 * texel + 1) * pixels / (2 * texels), pixels - 1);
+    return {centre, centre + 1};
+  }
+  return {texel * pixels / texels, (texel + 1) * pixels / texels};
+}
 
 // The weight by which lights are drawn: radiance summed over channels (a pure red light still counts).
 float weight(glm::vec3 radiance) { return std::max(0.0f, radiance.r + radiance.g + radiance.b); }
@@ -62,6 +77,13 @@ glm::vec3 triangle_mean(const TextureData& texture, glm::vec2 uv0, glm::vec2 uv1
 }
 
 }  // namespace
+
+SceneLights::WorldTable SceneLights::table_of(std::vector<double> cdf, std::size_t width) {
+  WorldTable table;
+  for (std::size_t r = 0; r * width < cdf.size(); ++r) table.row_cdf.push_back(cdf[r * width]);
+  table.cdf = std::move(cdf);
+  return table;
+}
 
 glm::vec2 equirect_uv(glm::vec3 e) { return shared_glsl::equirect_uv(e); }
 
@@ -114,18 +136,18 @@ void SceneLights::update(const GpuScene& scene) {
     const TextureData* env = world.environment();
     world_texels_.clear();
     world_peak_ = 0.0f;
-    world_cdf_.assign(1, 0.0);
-    world_width_ = std::size_t(env ? std::min(env->width, kWorldTableWidth) : 1);
+    std::vector<double> world_cdf(1, 0.0);
+    world_width_ = std::size_t(std::max(env ? std::min(env->width, kWorldTableWidth) : 1, kWorldTableMinWidth));
     const int width = int(world_width_);
-    const int height = env ? std::min(env->height, kWorldTableHeight) : 1;
+    const int height = std::max(env ? std::min(env->height, kWorldTableHeight) : 1, kWorldTableMinHeight);
     for (int row = 0; row < height; ++row) {
       const float v0 = float(row) / float(height), v1 = float(row + 1) / float(height);
       const float z0 = std::sin((v0 - 0.5f) * kPi), z1 = std::sin((v1 - 0.5f) * kPi);
       for (int column = 0; column < width; ++column) {
         glm::vec3 radiance = world.background();
         if (env) {  // the mean of the environment's pixels in this table texel
-          const int x0 = column * env->width / width, x1 = (column + 1) * env->width / width;
-          const int y0 = row * env->height / height, y1 = (row + 1) * env->height / height;
+          const auto [x0, x1] = pixel_span(column, width, env->width);
+          const auto [y0, y1] = pixel_span(row, height, env->height);
           glm::dvec3 sum(0.0);
           for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) sum += glm::dvec3(glm::vec3(texture_texel(*env, x, y)));
@@ -137,21 +159,52 @@ void SceneLights::update(const GpuScene& scene) {
         const double solid_angle = double(u1 - u0) * 2.0 * kPi * double(z1 - z0);
         world_texels_.push_back({radiance, u0, u1, z0, z1});
         world_peak_ = std::max(world_peak_, weight(radiance));
-        world_cdf_.push_back(world_cdf_.back() + double(weight(radiance)) * solid_angle);
+        world_cdf.push_back(world_cdf.back() + double(weight(radiance)) * solid_angle);
       }
     }
-    world_row_cdf_.clear();
-    for (std::size_t r = 0; r * world_width_ < world_cdf_.size(); ++r)
-      world_row_cdf_.push_back(world_cdf_[r * world_width_]);
+    world_table_ = table_of(std::move(world_cdf), world_width_);
     // The table's directions are the environment's; the lights need the world's (normalized once drawn: a Mapping
     // node may scale unevenly).
     world_to_environment_ = glm::make_mat3(scene.world().world_to_environment);
     environment_to_world_ = glm::inverse(world_to_environment_);
+    world_bins_.clear();
+    for (const WorldTexel& texel : world_texels_) {
+      const float z = 0.5f * (texel.z0 + texel.z1);
+      const glm::vec2 centre(0.5f * (texel.u0 + texel.u1), std::asin(std::clamp(z, -1.0f, 1.0f)) / kPi + 0.5f);
+      world_bins_.push_back(
+          uint8_t(sphere_bins::of(glm::normalize(environment_to_world_ * equirect_direction(centre)))));
+    }
+    guided_table_ = {};
   }
 }
 
+bool SceneLights::world_lights(const GpuScene& scene, const BounceSettings& settings) {
+  update(scene);
+  const double total = world_table_.cdf.empty() ? 0.0 : world_table_.cdf.back();
+  return settings.world_lights > 0 && total > 0.0 && std::isfinite(total);
+}
+
+void SceneLights::guide_world(std::span<const float> reach) {
+  guided_table_ = {};
+  guide_factors_.clear();
+  const std::vector<double>& cdf = world_table_.cdf;
+  if (reach.size() != std::size_t(sphere_bins::kCount) || world_texels_.empty() || cdf.size() < 2) return;
+  const double total = cdf.back();
+  double expected = 0.0;  // the reach's mean under the table's density
+  for (std::size_t t = 0; t < world_texels_.size(); ++t)
+    expected += (cdf[t + 1] - cdf[t]) * double(reach[world_bins_[t]]);
+  expected /= total;
+  if (!(expected > 0.0) || !std::isfinite(expected)) return;
+  for (const float r : reach)
+    guide_factors_.push_back(float((1.0 - kGuidedShare) + kGuidedShare * double(r > 0.0f ? r : 0.0f) / expected));
+  std::vector<double> guided(1, 0.0);
+  for (std::size_t t = 0; t < world_texels_.size(); ++t)
+    guided.push_back(guided.back() + (cdf[t + 1] - cdf[t]) * double(guide_factors_[world_bins_[t]]));
+  guided_table_ = table_of(guided, world_width_);
+}
+
 SceneLights::WorldDensity SceneLights::world_density(glm::vec3 w) const {
-  const double total = world_cdf_.back();
+  const double total = world_table_.cdf.empty() ? 0.0 : world_table_.cdf.back();
   if (world_texels_.empty() || !(total > 0.0) || !std::isfinite(total)) return {0.0f, glm::vec3(0.0f)};
   const glm::vec2 uv = equirect_uv(glm::normalize(world_to_environment_ * w));
   const std::size_t width = world_width_, height = world_texels_.size() / width;
@@ -162,29 +215,37 @@ SceneLights::WorldDensity SceneLights::world_density(glm::vec3 w) const {
 }
 
 std::optional<SceneLights::WorldDirection> SceneLights::draw_world(glm::vec2 u) const {
-  const double total = world_cdf_.back();
+  return draw_from(world_table_, {}, u);
+}
+
+std::optional<SceneLights::WorldDirection> SceneLights::draw_from(const WorldTable& table,
+                                                                  std::span<const float> factors, glm::vec2 u) const {
+  const std::vector<double>& world_cdf = table.cdf;
+  const double total = world_cdf.empty() ? 0.0 : world_cdf.back();
   if (world_texels_.empty() || !(total > 0.0) || !std::isfinite(total)) return std::nullopt;
   // A row (elevation) by u.y from the rows' marginal, then a texel of it by u.x: both coordinates stratify.
   const std::size_t width = world_width_;
-  const std::vector<double>& row_cdf = world_row_cdf_;
+  const std::vector<double>& row_cdf = table.row_cdf;
   const double row_target = double(u.y) * total;
   const std::size_t row = find_in_cdf(row_cdf, row_target);
   const double row_weight = row_cdf[row + 1] - row_cdf[row];
   const double target = row_cdf[row] + double(u.x) * row_weight;
   // Searched within the row's own width + 1 entries (a search per direction and point on the ray-traced paths).
   const std::size_t t =
-      row * width + find_in_cdf(std::span<const double>(world_cdf_).subspan(row * width, width + 1), target);
+      row * width + find_in_cdf(std::span<const double>(world_cdf).subspan(row * width, width + 1), target);
   const WorldTexel& texel = world_texels_[t];
-  const double span = world_cdf_[t + 1] - world_cdf_[t];
+  const double span = world_cdf[t + 1] - world_cdf[t];
   // The fractions of the targets within the row's and the texel's shares place the direction in the texel.
   const auto fraction = [](double x, double lo, double size) {
     return size > 0.0 ? float(std::clamp((x - lo) / size, 0.0, 1.0)) : 0.5f;
   };
   const float z = texel.z0 + fraction(row_target, row_cdf[row], row_weight) * (texel.z1 - texel.z0);
-  const float phi_u = texel.u0 + fraction(target, world_cdf_[t], span) * (texel.u1 - texel.u0);
+  const float phi_u = texel.u0 + fraction(target, world_cdf[t], span) * (texel.u1 - texel.u0);
   const float elevation_v = std::asin(std::clamp(z, -1.0f, 1.0f)) / kPi + 0.5f;
   const glm::vec3 direction = glm::normalize(environment_to_world_ * equirect_direction({phi_u, elevation_v}));
-  return WorldDirection{direction, texel.radiance, float(double(weight(texel.radiance)) / total)};
+  const double factor = factors.empty() ? 1.0 : double(factors[world_bins_[t]]);
+  return WorldDirection{direction, texel.radiance, float(double(weight(texel.radiance)) * factor / total),
+                        float(factor)};
 }
 
 BounceLight world_sun(glm::vec3 direction, glm::vec3 irradiance) {
@@ -202,17 +263,19 @@ BounceLight world_sun(glm::vec3 direction, glm::vec3 irradiance) {
 }
 
 void SceneLights::add_world(const BounceSettings& settings, uint32_t sample, uint32_t seed) {
-  world_pdfs_.clear();
+  world_guide_factors_.clear();
   const int count = settings.world_lights;
   if (count <= 0) return;
   const glm::vec2 rotation(hash_to_unit(hash_combine(seed, 201)), hash_to_unit(hash_combine(seed, 202)));
   for (int k = 0; k < count; ++k) {
     // The (sample * count + k)-th point of one R2 sequence: the render's directions stay stratified as a whole.
-    const std::optional<WorldDirection> drawn = draw_world(r2_point(sample * uint32_t(count) + uint32_t(k), rotation));
+    const glm::vec2 u = r2_point(sample * uint32_t(count) + uint32_t(k), rotation);
+    const std::optional<WorldDirection> drawn =
+        guide_factors_.empty() ? draw_world(u) : draw_from(guided_table_, guide_factors_, u);
     if (!drawn) return;
     // Irradiance L / (K p).
     lights_.push_back(world_sun(drawn->direction, drawn->radiance / (float(count) * drawn->pdf)));
-    world_pdfs_.push_back(drawn->pdf);
+    world_guide_factors_.push_back(drawn->guide_factor);
   }
 }
 

@@ -15,6 +15,8 @@ const char* stage_name(Stage stage) {
       return "Direct";
     case Stage::TracedDirect:
       return "Direct (ray traced)";
+    case Stage::WorldGuide:
+      return "World guide";
     case Stage::FlcRegular:
       return "FLC regular";
     case Stage::FlcDivergent:

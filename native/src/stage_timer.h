@@ -15,6 +15,7 @@ enum class Stage {
   Shadows,
   Direct,
   TracedDirect,        // direct light by Embree shadow rays (CPU), G-buffer readback and upload included
+  WorldGuide,          // where the world's directions reach the view (CPU, Embree: cpu/world_reach.h)
   FlcRegular,          // Forward Light Cuts: regular pipeline (decimation, partition, VPLs)
   FlcDivergent,        // subdivision of the divergent triangles
   FlcLighting,         // direct irradiance at the VPLs

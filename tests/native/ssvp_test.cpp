@@ -229,7 +229,7 @@ TEST(SsvpMath, BouncingLightsAreDrawnByTheirFlux) {
   const glm::vec3 centre(0.0f);
   // One draw: the light under u, weighted by 1 / its share.
   auto draw = [&](const std::vector<BounceLight>& lights, float u) {
-    const std::vector<ssvp::LightDraw> draws = ssvp::draw_bouncing_lights(lights, centre, 1.0f, 1, u);
+    const std::vector<ssvp::LightDraw> draws = ssvp::draw_bouncing_lights(lights, centre, 1.0f, 1, u, {});
     return draws.empty() ? ssvp::LightDraw{} : draws.front();
   };
   // Sun: 3 W/m^2 over pi (1 m)^2 = 9.4 W; point inside: 4 pi 10 = 126 W. Each is drawn for its share of u.
@@ -244,7 +244,7 @@ TEST(SsvpMath, BouncingLightsAreDrawnByTheirFlux) {
   EXPECT_LT(draw({sun, point}, 0.0f).weight, 1.01f);
   // Lights that send nothing are never drawn; with none left, none bounces.
   BounceLight dark = make_light(BOUNCE_LIGHT_POINT, glm::vec3(0), glm::vec3(0.0f));
-  EXPECT_TRUE(ssvp::draw_bouncing_lights(std::vector<BounceLight>{dark}, centre, 1.0f, 4, 0.5f).empty());
+  EXPECT_TRUE(ssvp::draw_bouncing_lights(std::vector<BounceLight>{dark}, centre, 1.0f, 4, 0.5f, {}).empty());
   EXPECT_EQ(draw({dark, sun, dark}, 0.0f).index, 1);
   EXPECT_EQ(draw({dark, sun, dark}, 1.0f).index, 1);
   EXPECT_EQ(draw({dark, sun, dark}, 0.5f).weight, 1.0f);
@@ -271,7 +271,7 @@ TEST(SsvpMath, SeveralDrawsSplitTheLightsBetweenThem) {
   constexpr int kSteps = 1000;
   for (int step = 0; step < kSteps; ++step) {
     const std::vector<ssvp::LightDraw> draws =
-        ssvp::draw_bouncing_lights(suns, glm::vec3(0.0f), 1.0f, n, (step + 0.5f) / kSteps);
+        ssvp::draw_bouncing_lights(suns, glm::vec3(0.0f), 1.0f, n, (step + 0.5f) / kSteps, {});
     int total = 0;
     for (std::size_t d = 0; d < draws.size(); ++d) {
       const double share = (draws[d].index + 1) / 10.0;
@@ -287,7 +287,7 @@ TEST(SsvpMath, SeveralDrawsSplitTheLightsBetweenThem) {
   for (double w : mean_weight) EXPECT_NEAR(w, 1.0, 2e-3);
   // Four equal suns, four draws: each is drawn once, at its own flux.
   const std::vector<BounceLight> equal(4, suns[0]);
-  const std::vector<ssvp::LightDraw> draws = ssvp::draw_bouncing_lights(equal, glm::vec3(0.0f), 1.0f, 4, 0.3f);
+  const std::vector<ssvp::LightDraw> draws = ssvp::draw_bouncing_lights(equal, glm::vec3(0.0f), 1.0f, 4, 0.3f, {});
   ASSERT_EQ(draws.size(), 4u);
   for (const ssvp::LightDraw& d : draws) EXPECT_FLOAT_EQ(d.weight, 1.0f);
 }

@@ -5,17 +5,14 @@
 #include <cmath>
 #include <span>
 
-#include "radiometry.h"
 #include "sampling.h"
 
 namespace bounce::cpu {
 namespace {
 
-constexpr float kBinSolidAngle = 4.0f * kPi / float(SkyGuide::kBins);
-
 // The density per steradian of a direction in bin b of a box's cumulative sums (learned: sums[kBins] > 0).
 float bin_pdf(const double* sums, std::size_t b) {
-  return float((sums[b + 1] - sums[b]) / sums[SkyGuide::kBins]) / kBinSolidAngle;
+  return float((sums[b + 1] - sums[b]) / sums[SkyGuide::kBins]) / sphere_bins::kSolidAngle;
 }
 
 }  // namespace
@@ -25,18 +22,11 @@ SkyGuide::SkyGuide(glm::vec3 lo, glm::vec3 hi) : grid_(lo, hi, kCellsPerSide) {
   cdf_.assign(2 * grid_.size() * (kBins + 1), 0.0);
 }
 
-int SkyGuide::bin_of(glm::vec3 w) {
-  const int ring = std::clamp(int((w.z + 1.0f) * 0.5f * float(kRings)), 0, kRings - 1);
-  const float turn = std::atan2(w.y, w.x) / (2.0f * kPi) + 0.5f;
-  const int sector = std::clamp(int(turn * float(kSectors)), 0, kSectors - 1);
-  return ring * kSectors + sector;
-}
-
 void SkyGuide::learn(uint32_t side, glm::vec3 x, glm::vec3 w, float share) {
   const std::size_t cell = grid_.index_of(x);
   if (cell >= grid_.size() || !(share > 0.0f) || !std::isfinite(w.x + w.y + w.z)) return;
   const auto units = uint64_t(double(std::min(share, 1.0f)) * 0x1p32);
-  const std::size_t at = ((side & 1u) * grid_.size() + cell) * kBins + std::size_t(bin_of(w));
+  const std::size_t at = ((side & 1u) * grid_.size() + cell) * kBins + std::size_t(sphere_bins::of(w));
   std::atomic_ref<uint64_t>(learned_[at]).fetch_add(units, std::memory_order_relaxed);
 }
 
@@ -62,19 +52,14 @@ bool SkyGuide::guides(uint32_t side, glm::vec3 x) const {
 float SkyGuide::pdf(uint32_t side, glm::vec3 x, glm::vec3 w) const {
   const double* sums = cdf(side, x);
   if (!sums || !(sums[kBins] > 0.0)) return 0.0f;
-  return bin_pdf(sums, std::size_t(bin_of(w)));
+  return bin_pdf(sums, std::size_t(sphere_bins::of(w)));
 }
 
 std::optional<SkyGuide::Draw> SkyGuide::draw(uint32_t side, glm::vec3 x, float pick, glm::vec2 within) const {
   const double* sums = cdf(side, x);
   if (!sums || !(sums[kBins] > 0.0)) return std::nullopt;
   const std::size_t b = find_in_cdf(std::span<const double>(sums, kBins + 1), double(pick) * sums[kBins]);
-  const int ring = int(b) / kSectors, sector = int(b) % kSectors;
-  const float z = -1.0f + 2.0f * (float(ring) + within.x) / float(kRings);
-  const float phi = ((float(sector) + within.y) / float(kSectors) - 0.5f) * 2.0f * kPi;
-  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-  const glm::vec3 direction(r * std::cos(phi), r * std::sin(phi), z);
-  return Draw{direction, bin_pdf(sums, b)};
+  return Draw{sphere_bins::direction(int(b), within), bin_pdf(sums, b)};
 }
 
 }  // namespace bounce::cpu

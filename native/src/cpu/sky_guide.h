@@ -21,14 +21,14 @@
 #include <glm/vec3.hpp>
 
 #include "cpu/box_grid.h"
+#include "sampling.h"
 
 namespace bounce::cpu {
 
 class SkyGuide {
  public:
   static constexpr int kCellsPerSide = 8;
-  static constexpr int kRings = 8, kSectors = 16;  // bins of equal solid angle: by cos(theta) and by azimuth
-  static constexpr int kBins = kRings * kSectors;
+  static constexpr int kBins = sphere_bins::kCount;
 
   SkyGuide() = default;
   SkyGuide(glm::vec3 lo, glm::vec3 hi);
@@ -50,7 +50,6 @@ class SkyGuide {
   std::optional<Draw> draw(uint32_t side, glm::vec3 x, float pick, glm::vec2 within) const;
 
  private:
-  static int bin_of(glm::vec3 w);
   // x's box's bins on the side other than `side`: kBins + 1 cumulative sums from 0, the last 0 where nothing was
   // learned; none outside the grid.
   const double* cdf(uint32_t side, glm::vec3 x) const;

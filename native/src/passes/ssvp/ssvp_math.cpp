@@ -97,11 +97,13 @@ float estimated_flux_into_sphere(const BounceLight& light, glm::vec3 centre, flo
 }
 
 std::vector<LightDraw> draw_bouncing_lights(std::span<const BounceLight> lights, glm::vec3 centre, float radius,
-                                            int count, float u) {
+                                            int count, float u, std::span<const float> flux_factors) {
   std::vector<float> flux(lights.size());
   double total = 0.0;
-  for (std::size_t i = 0; i < lights.size(); ++i)
-    total += flux[i] = estimated_flux_into_sphere(lights[i], centre, radius);
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const float factor = i < flux_factors.size() ? std::max(flux_factors[i], 0.0f) : 1.0f;
+    total += flux[i] = estimated_flux_into_sphere(lights[i], centre, radius) * factor;
+  }
   std::vector<LightDraw> draws;
   if (!(total > 0.0) || !std::isfinite(total)) return draws;
   // cpu::resample's draws come in index order, each weighted 1 / (count p): a light's m draws add up to m / (count p).

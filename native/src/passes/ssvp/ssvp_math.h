@@ -39,14 +39,17 @@ std::vector<glm::vec2> disk_set(uint32_t n, glm::vec2 rotation);
 // m / (count p) and with m / count of the sample's VPLs: each VPL carries about the same flux, and over samples
 // each light bounces with its own weight. One draw per sample (the former rule) left a sky's first bounce to one
 // of its directions: which one decided where all of it landed (Sponza under forest.exr, 16 samples: 0.86 of
-// Cycles' first bounce). In light-index order; none when no light emits into the scene.
+// Cycles' first bounce). `flux_factors` (empty: 1 each) scale each light's estimated flux: the guide's factor of
+// a world direction drawn by where its light reaches the view (SceneLights::guide_world), whose irradiance is
+// divided by that factor, so that the sky's directions keep their share of the draws. In light-index order; none
+// when no light emits into the scene.
 struct LightDraw {
   int index = -1;
   int draws = 0;        // m
   float weight = 0.0f;  // m / (count p)
 };
 std::vector<LightDraw> draw_bouncing_lights(std::span<const BounceLight> lights, glm::vec3 centre, float radius,
-                                            int count, float u);
+                                            int count, float u, std::span<const float> flux_factors);
 float estimated_flux_into_sphere(const BounceLight& light, glm::vec3 centre, float radius);
 
 struct ClusterPoint {

@@ -338,7 +338,8 @@ SsvpPass::SsvpPass()
 }
 
 void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffers, const cpu::CpuScene* traced,
-                        std::size_t lamp_count) {
+                        const SceneLights& sample_lights) {
+  const std::size_t lamp_count = sample_lights.lamp_count();
   first_count_ = second_count_ = 0;
   main_light_ = -1;
   clusters_.clear();
@@ -355,8 +356,12 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   // No more draws than candidates, so that each light drawn gets one.
   const float rotation = context.sample == 0 ? 0.0f : hash_to_unit(hash_combine(context.seed, 0x5355u));
   const int draw_count = std::clamp(s.ssvp_bouncing_lights, 1, std::min(64, candidates));
-  const std::vector<ssvp::LightDraw> draws = ssvp::draw_bouncing_lights(
-      lights, 0.5f * (lo + hi), scene_radius, draw_count, r2_point(context.sample, glm::vec2(rotation)).x);
+  std::vector<float> flux_factors(lights.size(), 1.0f);
+  std::copy(sample_lights.world_guide_factors().begin(), sample_lights.world_guide_factors().end(),
+            flux_factors.begin() + std::ptrdiff_t(lamp_count));
+  const std::vector<ssvp::LightDraw> draws =
+      ssvp::draw_bouncing_lights(lights, 0.5f * (lo + hi), scene_radius, draw_count,
+                                 r2_point(context.sample, glm::vec2(rotation)).x, flux_factors);
   if (draws.empty()) return;
   main_light_ = std::max_element(draws.begin(), draws.end(), [](const auto& a, const auto& b) {
                   return a.draws < b.draws;

@@ -48,6 +48,7 @@
 #include "passes/gbuffer/gbuffer_pass.h"
 #include "passes/render_context.h"
 #include "passes/ssvp/ssvp_math.h"
+#include "scene_lights.h"
 
 namespace bounce {
 
@@ -73,10 +74,10 @@ class SsvpPass {
   SsvpPass();
   // Once per sample, for the whole view (`context` covers every tile): the light's RSM, the VPLs, their
   // clusters and paraboloid maps, the second bounce. `traced`: Embree's copy of the scene when the frame plan
-  // draws the VPLs by importance, else null. The first `lamp_count` lights of the sample's list are the lamps,
-  // which keep their places from sample to sample.
+  // draws the VPLs by importance, else null. `sample_lights`: the sample's list of lights (the context's), whose lamps
+  // keep their places from sample to sample.
   void generate(const RenderContext& context, const GBufferPass& gbuffers, const cpu::CpuScene* traced,
-                std::size_t lamp_count);
+                const SceneLights& sample_lights);
   // Per tile: the pixels of `camera` lit by the sample's VPLs, blurred; the debug view.
   void shade(const RenderContext& context, const GBuffer& camera);
 

@@ -33,6 +33,9 @@ double vpl_stages_milliseconds(const StageTimer& timer, int32_t method) {
   return timer.milliseconds(Stage::SsvpImportance) + timer.milliseconds(Stage::SsvpShade);
 }
 
+// Whether sample s renews the guide of the world's directions: samples 0, 1, 2, 4, 8, ... (see render_method).
+bool renews_world_guide(int s) { return (s & (s - 1)) == 0; }
+
 // What a sample's cost depends on: the GPU (its GL renderer) and the CPU's threads (Embree, the CPU stages).
 std::string device_name() {
   const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
@@ -246,6 +249,8 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
   // changes.
   if (!tiles_take_turns)
     for (std::size_t t = 0; t < tiles.size(); ++t) compose_.clear(slot_of(t), tiles[t].width, tiles[t].height);
+  int last_guide_renewal = 0;  // the last sample of the render whose world guide is renewed
+  for (int s = 1; s < samples; s *= 2) last_guide_renewal = s;
   SampleSchedule schedule(settings);
   int samples_done = samples;
   for (int s = 0; s < samples; ++s) {
@@ -256,7 +261,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     // too): it does not depend on the directions it guides, which keeps them unbiased.
     if (s == 0) world_reach_.reset();
     const bool guided = plan.guide_world && scene_lights_.world_lights(scene_, settings);
-    if (guided) {
+    if (guided && s <= last_guide_renewal) {  // what later samples learn, no table of this render would use
       StageScope scope(timer_, Stage::WorldGuide);
       const uint32_t key = hash_combine(hash_combine(seed, static_cast<uint32_t>(s)), 0x5752u);
       world_reach_.learn(cpu_scene_, cpu::camera_probes(view_projection_of(frame_tile, jitter), cpu_scene_, key),
@@ -266,7 +271,7 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     // samples in between draw consecutive points of one R2 sequence through the same table, stratified together.
     // (Changed every sample, the sunlit room under its sun and sky had its first bounce's spread over seeds 0-5
     // at 16 samples grow from 0.153 of Cycles' unguided to 0.264.)
-    if ((s & (s - 1)) == 0) scene_lights_.guide_world(guided ? world_reach_.reach() : std::span<const float>{});
+    if (renews_world_guide(s)) scene_lights_.guide_world(guided ? world_reach_.reach() : std::span<const float>{});
     const std::vector<BounceLight>& lights = scene_lights_.sample(scene_, settings, static_cast<uint32_t>(s), seed);
     bind_emitter_occluders(scene_lights_.emitter_occluders());
     const RenderContext frame_context = context_of(frame_tile, static_cast<uint32_t>(s), jitter, lights);

@@ -180,7 +180,7 @@ void SceneLights::update(const GpuScene& scene) {
 
 bool SceneLights::world_lights(const GpuScene& scene, const BounceSettings& settings) {
   update(scene);
-  const double total = world_table_.cdf.empty() ? 0.0 : world_table_.cdf.back();
+  const double total = world_table_.total();
   return settings.world_lights > 0 && total > 0.0 && std::isfinite(total);
 }
 
@@ -204,7 +204,7 @@ void SceneLights::guide_world(std::span<const float> reach) {
 }
 
 SceneLights::WorldDensity SceneLights::world_density(glm::vec3 w) const {
-  const double total = world_table_.cdf.empty() ? 0.0 : world_table_.cdf.back();
+  const double total = world_table_.total();
   if (world_texels_.empty() || !(total > 0.0) || !std::isfinite(total)) return {0.0f, glm::vec3(0.0f)};
   const glm::vec2 uv = equirect_uv(glm::normalize(world_to_environment_ * w));
   const std::size_t width = world_width_, height = world_texels_.size() / width;
@@ -221,7 +221,7 @@ std::optional<SceneLights::WorldDirection> SceneLights::draw_world(glm::vec2 u) 
 std::optional<SceneLights::WorldDirection> SceneLights::draw_from(const WorldTable& table,
                                                                   std::span<const float> factors, glm::vec2 u) const {
   const std::vector<double>& world_cdf = table.cdf;
-  const double total = world_cdf.empty() ? 0.0 : world_cdf.back();
+  const double total = table.total();
   if (world_texels_.empty() || !(total > 0.0) || !std::isfinite(total)) return std::nullopt;
   // A row (elevation) by u.y from the rows' marginal, then a texel of it by u.x: both coordinates stratify.
   const std::size_t width = world_width_;

@@ -114,6 +114,7 @@ class SceneLights {
   struct WorldTable {
     std::vector<double> cdf;      // cumulative radiance x solid angle (x a factor when guided), row after row
     std::vector<double> row_cdf;  // the rows' marginal: cdf at each row's start, and the total
+    double total() const { return cdf.empty() ? 0.0 : cdf.back(); }
   };
   static WorldTable table_of(std::vector<double> cdf, std::size_t width);
   // The direction that u draws from `table`, whose texels' weights are the world table's times `factors` per bin

@@ -23,9 +23,9 @@ using uint = uint32_t;
 #include "ssvp/ssvp_shared.glsl"
 #undef SSVP_INLINE
 
-// The n points of Eq. 1, shifted modulo 1 by `rotation` (Cranley-Patterson). Progressive sample 0 uses no
-// shift, so a still scene samples the same VPLs every frame (Sec. III-C); later samples rotate the set, so the
-// samples together cover the RSM.
+// The n points of Eq. 1, shifted modulo 1 by `rotation` (Cranley-Patterson). A sample's rotation depends only on
+// its index and the seed, so a still scene samples the same VPLs every frame (Sec. III-C); the samples' rotations
+// follow an R2 sequence, so together they cover the RSM.
 std::vector<glm::vec2> hammersley_set(uint32_t n, glm::vec2 rotation);
 
 // `n` points uniform on the unit disk for the paraboloid maps: the Hammersley set through Shirley and Chiu's

@@ -58,10 +58,10 @@ std::vector<GpuVpl> read_lit_vpls(gl::Readback& readback, GLuint buffer, std::si
   return lit;
 }
 
-// The rotation of a sample's Hammersley sets over the RSMs and of its disk points. Sample 0 samples the same
-// VPLs every frame (Sec. III-C); later samples rotate the sets.
+// The rotation of a sample's Hammersley sets over the RSMs and of its disk points. A still scene gives the same
+// VPLs for a sample and a seed every frame (Sec. III-C); the seed rotates every sample, the first included, so
+// that renders with different seeds are independent estimates.
 glm::vec2 sample_rotation(const RenderContext& context) {
-  if (context.sample == 0) return glm::vec2(0.0f);
   return r2_point(context.sample, glm::vec2(hash_to_unit(hash_combine(context.seed, 0x5353u)),
                                             hash_to_unit(hash_combine(context.seed, 0x5354u))));
 }
@@ -352,9 +352,8 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   first_wanted_ = std::clamp(s.ssvp_vpls, 1, 1 << 16);
   second_wanted_ = std::clamp(s.ssvp_second_vpls, 1, 1 << 16);
   const int candidates = traced ? first_wanted_ * cpu::kCandidatesPerVpl : first_wanted_;
-  // Sample 0 draws with no rotation, as it keeps one Hammersley set: a still scene gives the same frame again.
   // No more draws than candidates, so that each light drawn gets one.
-  const float rotation = context.sample == 0 ? 0.0f : hash_to_unit(hash_combine(context.seed, 0x5355u));
+  const float rotation = hash_to_unit(hash_combine(context.seed, 0x5355u));
   const int draw_count = std::clamp(s.ssvp_bouncing_lights, 1, std::min(64, candidates));
   std::vector<float> flux_factors(lights.size(), 1.0f);
   std::copy(sample_lights.world_guide_factors().begin(), sample_lights.world_guide_factors().end(),
@@ -376,9 +375,7 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   p.w2 = s.ssvp_normal_weight;
   p.paraboloid_far = 2.2f * p.length_scale;
   p.bounces = std::clamp(s.bounces, 1, 2);
-  // Sample 0 keeps one pattern, as it keeps one Hammersley set: a still scene gives the same frame again.
-  p.pattern_rotation =
-      context.sample == 0 ? 0 : static_cast<int32_t>(hash_combine(context.seed, context.sample) % 65536u);
+  p.pattern_rotation = static_cast<int32_t>(hash_combine(context.seed, context.sample) % 65536u);
 
   if (context.sample == 0 || guides_.size() != lamp_count) guides_.assign(lamp_count, cpu::EmissionGuide{});
   // Each light drawn m times of `draw_count` samples m / draw_count of the candidates.

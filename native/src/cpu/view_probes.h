@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "cpu/cpu_scene.h"
+#include "cpu/vpls.h"
 
 namespace bounce::cpu {
 
@@ -16,9 +17,10 @@ struct ViewProbe {
   glm::vec3 position, normal, albedo;  // normal: the shading normal, toward the camera
 };
 
-// The surface a camera ray meets through one jittered point in each cell of a kProbesPerAxis^2 grid over the whole
-// view of `view_projection` (all the tiles of a tiled frame share them), as the rasterizer sees it (cut-outs let the
-// ray through). Deterministic for a seed.
-std::vector<ViewProbe> camera_probes(const glm::mat4& view_projection, const CpuScene& scene, uint32_t seed);
+// The surface a camera ray meets through one jittered point in each cell of a per_axis^2 grid over the whole view of
+// `view_projection` (all the tiles of a tiled frame share them), as the rasterizer sees it (cut-outs let the ray
+// through). Deterministic for a seed.
+std::vector<ViewProbe> camera_probes(const glm::mat4& view_projection, const CpuScene& scene, uint32_t seed,
+                                     int per_axis = kProbesPerAxis);
 
 }  // namespace bounce::cpu

@@ -42,6 +42,10 @@ constexpr double kParaboloidMemoryBudget = 512.0 * 1024.0 * 1024.0;
 constexpr double kRsmMemoryBudget = 1024.0 * 1024.0 * 1024.0;
 constexpr int kParaboloidBytesPerTexel = 16 + 8 + 8 + 4;
 constexpr float kMinSecondCosine = 1e-2f;  // as MIN_COSINE in ssvp_propagate.comp
+// The view samples a candidate that reaches none of the kProbesPerAxis^2 probes is weighed again at
+// (candidate_importance). With the coarse ones alone, the boxes on the budget's open ground (a tenth of the view)
+// got 0.93 of Cycles' first bounce (0.94 with four times the VPLs, 1.03 with 24 x 24 probes for every candidate).
+constexpr int kFineProbesPerAxis = 16;
 
 using GpuVpl = SsvpPass::GpuVpl;
 using Probe = cpu::ViewProbe;
@@ -77,22 +81,29 @@ uint32_t importance_key(const RenderContext& context) {
 // (capped by vpl_irradiance in ssvp_common.glsl at the candidate's exitance) times the weight. Unlike the
 // Topology method's, the draw has no defensive share: a candidate that reaches no probe is left out. Kept, it
 // would carry m / (share x count) times a VPL's flux (80 times), and clustered visibility, which tests it from
-// its cluster's eye, lets it through walls: a sunlit room came out 2-3 times too bright. Left out, only light
-// that no probe sees is lost; the probes move every sample.
+// its cluster's eye, lets it through walls: a sunlit room came out 2-3 times too bright. Left out, the light that
+// reaches only what falls between the probes is lost, so a candidate that reaches none of `probes` is weighed
+// again at the denser `fine_probes` (scaled to as many probes): only what falls between those is lost.
 std::vector<float> candidate_importance(std::span<const GpuVpl> candidates, std::span<const Probe> probes,
-                                        const cpu::CpuScene& scene, float clamp) {
+                                        std::span<const Probe> fine_probes, const cpu::CpuScene& scene, float clamp) {
   const float offset = scene.ray_offset();
   std::vector<float> importance(candidates.size(), 0.0f);
   parallel_for(candidates.size(), 0, 16, [&](std::size_t i) {
     const cpu::Vpl vpl{glm::vec3(candidates[i].position_cluster), glm::vec3(candidates[i].normal),
                        glm::vec3(candidates[i].flux)};
-    double sum = 0.0;
-    for (const Probe& probe : probes) {
-      const glm::vec3 light = probe.albedo * cpu::vpl_irradiance(vpl, probe.position, probe.normal, clamp);
-      if (!(light.r + light.g + light.b > 0.0f)) continue;
-      if (!scene.clear_between(vpl.position + vpl.normal * offset, probe.position + probe.normal * offset)) continue;
-      sum += double(light.r + light.g + light.b);
-    }
+    const auto light_at = [&](std::span<const Probe> set) {
+      double sum = 0.0;
+      for (const Probe& probe : set) {
+        const glm::vec3 light = probe.albedo * cpu::vpl_irradiance(vpl, probe.position, probe.normal, clamp);
+        if (!(light.r + light.g + light.b > 0.0f)) continue;
+        if (!scene.clear_between(vpl.position + vpl.normal * offset, probe.position + probe.normal * offset)) continue;
+        sum += double(light.r + light.g + light.b);
+      }
+      return sum;
+    };
+    double sum = light_at(probes);
+    if (sum == 0.0 && !fine_probes.empty())
+      sum = light_at(fine_probes) * double(probes.size()) / double(fine_probes.size());
     importance[i] = float(sum);
   });
   return importance;
@@ -268,7 +279,8 @@ std::vector<GpuCluster> gpu_clusters(const VplClusters& clustered) {
 // the budget's sunlit interior it gave 0.68 of Cycles' second bounce (0.60 with the members' light traced from
 // every candidate, unshadowed); traced, 0.95.
 std::vector<GpuVpl> trace_second_bounce(std::span<const GpuVpl> sources, int wanted, std::span<const Probe> probes,
-                                        const cpu::CpuScene& scene, float clamp, uint32_t seed) {
+                                        std::span<const Probe> fine_probes, const cpu::CpuScene& scene, float clamp,
+                                        uint32_t seed) {
   std::vector<float> power(sources.size());
   for (std::size_t i = 0; i < sources.size(); ++i) power[i] = sources[i].flux.r + sources[i].flux.g + sources[i].flux.b;
   if (std::none_of(power.begin(), power.end(), [](float value) { return value > 0.0f; })) return {};
@@ -312,7 +324,7 @@ std::vector<GpuVpl> trace_second_bounce(std::span<const GpuVpl> sources, int wan
     hits[k] = {glm::vec4(surface.position, 0.0f), glm::vec4(surface.shading_normal, area), glm::vec4(flux, 1.0f)};
   });
   std::erase_if(hits, [](const GpuVpl& v) { return v.flux.w == 0.0f; });
-  return keep_by_importance(hits, candidate_importance(hits, probes, scene, clamp), wanted,
+  return keep_by_importance(hits, candidate_importance(hits, probes, fine_probes, scene, clamp), wanted,
                             hash_to_unit(hash_combine(seed, 1u)));
 }
 
@@ -396,13 +408,15 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   }
   p.first_count = candidates;
   p.first_offset = 0;
-  std::vector<Probe> probes;
+  std::vector<Probe> probes, fine_probes;
   if (traced) {
     StageScope scope(context.timer, Stage::SsvpImportance);
     probes = cpu::camera_probes(context.view_projection, *traced, importance_key(context));
+    fine_probes = cpu::camera_probes(context.view_projection, *traced, hash_combine(importance_key(context), 1u),
+                                     kFineProbesPerAxis);
   }
   // Traced with VPL Importance, else propagated below.
-  std::vector<GpuVpl> second = cluster(context, traced, probes);
+  std::vector<GpuVpl> second = cluster(context, traced, probes, fine_probes);
   if (clusters_.empty()) {
     first_count_ = 0;
     return;
@@ -553,7 +567,7 @@ void SsvpPass::sample_first_bounce(const RenderContext& context, const Rsm& rsm,
 }
 
 std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::CpuScene* traced,
-                                      std::span<const Probe> probes) {
+                                      std::span<const Probe> probes, std::span<const Probe> fine_probes) {
   SsvpParams& p = params_;
   std::vector<GpuVpl> candidates, second;
   {
@@ -571,7 +585,7 @@ std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::C
       candidate.flux = glm::vec4(glm::vec3(candidate.flux) * weight, candidate.flux.w);
       candidate.normal.w *= weight;
     }
-    const std::vector<float> importance = candidate_importance(candidates, probes, *traced, p.epsilon);
+    const std::vector<float> importance = candidate_importance(candidates, probes, fine_probes, *traced, p.epsilon);
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       const std::size_t k = std::size_t(candidates[i].position_cluster.w);
       if (candidate_guides_[k]) candidate_guides_[k]->learn(candidate_points_[k], importance[i]);
@@ -579,7 +593,8 @@ std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::C
     for (cpu::EmissionGuide* guide : sample_guides_) guide->update();
     vpls = keep_by_importance(candidates, importance, first_wanted_, hash_to_unit(hash_combine(key, 1u)));
     if (p.bounces > 1)
-      second = trace_second_bounce(candidates, second_wanted_, probes, *traced, p.epsilon, hash_combine(key, 0x32u));
+      second = trace_second_bounce(candidates, second_wanted_, probes, fine_probes, *traced, p.epsilon,
+                                   hash_combine(key, 0x32u));
   }
   StageScope scope(context.timer, Stage::SsvpCluster);
   const ssvp::ClusterMetric metric{p.w1, p.w2, p.length_scale};

@@ -108,9 +108,10 @@ class SsvpPass {
   // The candidates [offset, offset + count) from `rsm`, of `light` weighted by its draws.
   void sample_first_bounce(const RenderContext& context, const Rsm& rsm, const BounceLight& light,
                            cpu::EmissionGuide* guide, uint32_t offset, uint32_t count);
-  // Returns the second-bounce VPLs when it traces them (VPL Importance), else none.
+  // Returns the second-bounce VPLs when it traces them (VPL Importance), else none. `probes` weigh the candidates
+  // and check the clusters' eyes; `fine_probes` weigh the candidates that reach none of them.
   std::vector<GpuVpl> cluster(const RenderContext& context, const cpu::CpuScene* traced,
-                              std::span<const cpu::ViewProbe> probes);
+                              std::span<const cpu::ViewProbe> probes, std::span<const cpu::ViewProbe> fine_probes);
   void allocate_paraboloids(const RenderContext& context, int layers);
   void render_paraboloids(const RenderContext& context, int begin, int end);  // layers [begin, end)
   void propagate(const RenderContext& context);

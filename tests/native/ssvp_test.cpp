@@ -278,7 +278,9 @@ TEST(SsvpMath, SeveralDrawsSplitTheLightsBetweenThem) {
       EXPECT_GE(draws[d].draws, int(std::floor(n * share)));
       EXPECT_LE(draws[d].draws, int(std::ceil(n * share)));
       EXPECT_NEAR(draws[d].weight, draws[d].draws / (n * share), 1e-5);
-      if (d > 0) EXPECT_LT(draws[d - 1].index, draws[d].index);
+      if (d > 0) {
+        EXPECT_LT(draws[d - 1].index, draws[d].index);
+      }
       mean_weight[std::size_t(draws[d].index)] += draws[d].weight / kSteps;
       total += draws[d].draws;
     }

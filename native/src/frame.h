@@ -63,11 +63,13 @@ struct Frame {
 
   // Sets every AOV value of a pixel whose channels are not all finite to zero; returns how many pixels had one
   // (counted once however many of their AOVs did: the count is of the image's pixels).
-  // Where signed corrections (Ray Checks, in Forward Light Cuts and the Topology method) leave a pixel's mean
+  // Where signed corrections (Ray Checks, in Forward Light Cuts, SSVP and the Topology method) leave a pixel's mean
   // Indirect below zero (the light they took away was not there), it shows none: the deficit goes back into
   // Indirect and Combined, on the mean of the samples (clamped per sample, the image would keep the rule's excess
-  // wherever a check found one).
+  // wherever a check found one). The Second Bounce, a part of Indirect, shows none where its own mean is below zero.
   void clamp_negative_indirect() {
+    if (holds(BOUNCE_AOV_SECOND_BOUNCE))
+      for (float& value : aovs[BOUNCE_AOV_SECOND_BOUNCE]) value = std::max(value, 0.0f);
     if (!holds(BOUNCE_AOV_INDIRECT)) return;
     const std::size_t indirect_channels = std::size_t(bounce_aov_channels(BOUNCE_AOV_INDIRECT));
     const std::size_t combined_channels = std::size_t(bounce_aov_channels(BOUNCE_AOV_COMBINED));

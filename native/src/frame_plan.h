@@ -16,9 +16,10 @@ struct FramePlan {
   Indirect indirect = Indirect::None;
   int bounces = 0;                // diffuse bounces simulated: the paper's one for FLC, SSVP two at most
   bool indirect_shadows = false;  // the topology's clusters and gates shadow Forward Light Cuts' VPLs
-  float ray_checks = 0.0f;        // the share of those light-pixel pairs whose verdict a shadow ray checks
-  int vpl_candidates = 1;         // Forward Light Cuts' VPLs drawn per VPL kept by its light, once rays have lit them
-  bool vpl_importance = false;    // SSVP draws its VPLs where shadow rays say their light reaches the view
+  float ray_checks =
+      0.0f;                // the share of the light-pixel pairs whose visibility (FLC's rule, SSVP's maps) a ray checks
+  int vpl_candidates = 1;  // Forward Light Cuts' VPLs drawn per VPL kept by its light, once rays have lit them
+  bool vpl_importance = false;  // SSVP draws its VPLs where shadow rays say their light reaches the view
   // The GL VPL methods' distance clamp takes the first bounce's light next to lit surfaces; the near field gives it
   // back: by Embree rays with the ray-traced direct light, else marched through the G-buffer (which misses
   // surfaces the camera does not see). Blurred over near_field_blur pixels, as the method blurs its indirect light.
@@ -35,10 +36,11 @@ struct FramePlan {
   // the scene is there anyway.
   bool guide_world = false;
 
-  // Embree's copy of the scene: for ray-traced direct light, the Topology method, building the topology and tracing
-  // VPL importance.
+  // Embree's copy of the scene: for ray-traced direct light, the Topology method, building the topology, tracing
+  // VPL importance and Ray Checks.
   bool needs_cpu_scene() const {
-    return direct == Direct::RayTraced || indirect == Indirect::Topology || indirect_shadows || vpl_importance;
+    return direct == Direct::RayTraced || indirect == Indirect::Topology || indirect_shadows || vpl_importance ||
+           ray_checks > 0.0f;
   }
 };
 
@@ -60,6 +62,7 @@ inline FramePlan plan_frame(const BounceSettings& settings) {
       plan.indirect = FramePlan::Indirect::Ssvp;
       plan.bounces = std::min(settings.bounces, 2);
       plan.vpl_importance = settings.ssvp_importance != 0;
+      plan.ray_checks = std::clamp(settings.ssvp_ray_checks, 0.0f, 1.0f);
       plan.near_field_clamp = settings.ssvp_distance_clamp;
       plan.near_field_blur = settings.ssvp_blur_radius;
       break;

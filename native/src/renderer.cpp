@@ -308,15 +308,15 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       else
         direct_.execute(context, gbuffer_.gbuffer(), shadows_);
       ComposePass::Indirect indirect;
+      std::optional<RayCheckSettings> checks;
+      if (plan.ray_checks > 0.0f) checks.emplace(RayCheckSettings{cpu_scene_, plan.ray_checks});
       if (flc) {
         if (flc_visibility) topology_visibility_.execute(context, gbuffer_.gbuffer());
-        std::optional<FlcPass::RayChecks> checks;
-        if (plan.ray_checks > 0.0f) checks.emplace(FlcPass::RayChecks{cpu_scene_, plan.ray_checks});
         flc_.shade(context, gbuffer_.gbuffer(), flc_visibility ? &topology_visibility_ : nullptr, checks);
         if (flc_.active()) indirect = {flc_.indirect(), false, flc_.levels(), 0};
       }
       if (ssvp) {
-        ssvp_.shade(context, gbuffer_.gbuffer());
+        ssvp_.shade(context, gbuffer_.gbuffer(), checks);
         if (ssvp_.active()) indirect = {ssvp_.indirect(), true, ssvp_.debug(), ssvp_.second()};
       }
       const GLuint direct = traced_direct ? traced_direct_.output() : direct_.output();

@@ -41,6 +41,8 @@ const char* stage_name(Stage stage) {
       return "SSVP paraboloids";
     case Stage::SsvpShade:
       return "SSVP shading";
+    case Stage::SsvpRayChecks:
+      return "SSVP ray checks";
     case Stage::SsvpDenoise:
       return "SSVP denoise";
     case Stage::NearField:

@@ -28,6 +28,7 @@ enum class Stage {
   SsvpImportance,      // VPL Importance: probes read back, shadow rays to them, resampling (CPU, Embree)
   SsvpParaboloids,     // one paraboloid map per cluster
   SsvpShade,           // interleaved shading of both bounces, debug view
+  SsvpRayChecks,       // Ray Checks: the checked pairs read back, their shadow rays (CPU, Embree), the correction
   SsvpDenoise,         // geometry-aware blur
   NearField,           // the light the VPLs' distance clamp takes, from the G-buffer (FLC, SSVP)
   TopologyPrecompute,  // the topology of the empty space (cached: only the first render of a scene)

@@ -4,6 +4,7 @@
 // (emitter_occluders.glsl).
 #include "common/emitter_occluders.glsl"
 #include "flc/flc_common.glsl"
+#include "ray_checks/ray_checks.glsl"
 #include "topology_visibility/visibility.glsl"
 
 layout(binding = 1) uniform sampler2D g_albedo;
@@ -22,21 +23,6 @@ layout(binding = 21) uniform usampler2D pixel_clusters;  // TopologyVisibilityPa
 // Per ray map, per bin the visibility cluster its ray enters (TOPOLOGY_NO_CLUSTER for none) and the distance to the
 // surface it meets, as float bits (FlcPass::trace_ray_maps).
 layout(std430, binding = 15) readonly buffer FlcRayMaps { uvec2 flc_ray_maps[]; };
-
-// Ray Checks: the pairs whose verdict a shadow ray checks on the CPU (FlcPass::check_by_rays), the count first.
-struct FlcRayCheck {
-  vec4 light_verdict;        // the VPL's position, the rule's verdict
-  vec4 light_normal;
-  vec4 receiver;             // the pixel's surface point
-  vec4 receiver_normal;
-  vec3 unshadowed;           // the VPL's light at the pixel, unshadowed
-  uint pixel;                // its index in the tile
-};
-layout(std430, binding = 16) buffer FlcRayChecks {
-  uint flc_ray_check_count;
-  uint flc_ray_check_pad[3];
-  FlcRayCheck flc_ray_checks[];
-};
 
 layout(location = 0) out vec4 out_indirect;
 
@@ -87,10 +73,9 @@ void main() {
                                          : 1.0;
   // Ray Checks: a random share of the pairs, lit or not by the rule, goes to the CPU, where a shadow ray's verdict
   // corrects the rule's (a control variate: Topology's Ray Checks, cpu::TopologyRenderer).
+  uint pixel_index = uint(pixel.y * flc.image_width + pixel.x);
   bool checked = flc.visibility != 0 && settings.flc_ray_checks > 0.0 &&
-                 hash_to_unit(pcg_hash(floatBitsToUint(s_vpl_position.x) ^
-                                       pcg_hash(floatBitsToUint(s_vpl_position.z) ^ flc.u_rand)) ^
-                              uint(pixel.y * flc.image_width + pixel.x)) < settings.flc_ray_checks;
+                 ray_check_drawn(s_vpl_position, pixel_index, flc.u_rand, settings.flc_ray_checks);
   if (visibility == 0.0 && !checked) discard;
   float clamped = max(flc.epsilon, distance);
   // L(t_i, y_i x) = rho_i E / pi, a diffuse surface's; with Cosine-Lobe Lights Eq. 6's rho_i E 3/(2 pi)
@@ -99,11 +84,6 @@ void main() {
   // H = L rho_x <n_x, x y_i>+ <n_i, y_i x>+ / (pi d^2) (Eq. 5).
   float lobe = flc.cosine_lobe != 0 ? 1.5 * cos_emitter : 1.0;
   vec3 h = s_radiance_factor * lobe * albedo.rgb * cos_receiver * cos_emitter / (FLC_PI * clamped * clamped) * f;
-  if (checked) {
-    uint slot = atomicAdd(flc_ray_check_count, 1u);
-    if (slot < uint(flc_ray_checks.length()))
-      flc_ray_checks[slot] = FlcRayCheck(vec4(s_vpl_position, visibility), vec4(s_vpl_normal, 0.0), vec4(x, 0.0),
-                                         vec4(normal, 0.0), h, uint(pixel.y * flc.image_width + pixel.x));
-  }
+  if (checked) append_ray_check(s_vpl_position, s_vpl_normal, visibility, x, normal, h, pixel_index, false);
   out_indirect = vec4(h * visibility, 0.0);
 }

@@ -15,6 +15,8 @@ layout(std140, binding = 5) uniform SsvpParams {
   int second_per_cluster, bounces, pattern_rotation;
   int first_offset;  // while sampling: where this light's VPLs start (first_count: how many)
   float texels_per_capped_vpl;  // RSM texels / all the sample's first-bounce VPLs: the area that caps them
+  int image_width;              // while shading: the tile's
+  uint check_random;            // while shading: which pairs Ray Checks draws, new every sample
 } ssvp;
 
 struct Vpl {

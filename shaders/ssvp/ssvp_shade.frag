@@ -2,7 +2,10 @@
 // starting at an offset that turns with the progressive sample, weighted by T^2. Each VPL gives its irradiance
 // (vpl_irradiance in ssvp_common.glsl: flux / pi G, G capped) times the clustered visibility: the share of x seen
 // from the centre of the VPL's cluster in its paraboloid map.
+// With Ray Checks, a random share of the pairs goes to the CPU with the map's verdict, where a shadow ray from the
+// VPL itself corrects it (native/src/passes/ray_checks/ray_checks.h).
 // Outputs irradiance / pi (the compose pass multiplies the albedo): both bounces, and the second alone.
+#include "ray_checks/ray_checks.glsl"
 #include "ssvp/ssvp_common.glsl"
 
 layout(binding = 1) uniform sampler2D g_albedo;
@@ -70,10 +73,16 @@ float cluster_visibility(int c, vec3 x, vec3 n) {
   return visibility;
 }
 
-vec3 vpl_light(Vpl vpl, vec3 x, vec3 n) {
-  vec3 e = vpl_irradiance(vpl, x, n);
+// The VPL's light at the pixel, as the output counts it (x `weight`): `marked` for the second bounce's VPLs.
+vec3 vpl_light(Vpl vpl, vec3 x, vec3 n, float weight, uint pixel, bool marked) {
+  vec3 e = vpl_irradiance(vpl, x, n) * weight;
   if (e == vec3(0.0)) return e;
-  return e * cluster_visibility(int(vpl.position_cluster.w), x, n);
+  float visibility = cluster_visibility(int(vpl.position_cluster.w), x, n);
+  if (settings.ssvp_ray_checks > 0.0 &&
+      ray_check_drawn(vpl.position_cluster.xyz, pixel, ssvp.check_random ^ (marked ? 0x9e3779b9u : 0u),
+                      settings.ssvp_ray_checks))
+    append_ray_check(vpl.position_cluster.xyz, vpl.normal.xyz, visibility, x, n, e, pixel, marked);
+  return e * visibility;
 }
 
 void main() {
@@ -86,12 +95,13 @@ void main() {
   int share = t * t;
   ivec2 in_tile = pixel % t;
   int start = (in_tile.x + t * in_tile.y + ssvp.pattern_rotation) % share;
+  uint pixel_index = uint(pixel.y * ssvp.image_width + pixel.x);
+  float weight = float(share) / SSVP_PI;
   vec3 first = vec3(0.0), second = vec3(0.0);
-  for (int i = start; i < ssvp.first_count; i += share) first += vpl_light(first_vpls[i], x, n);
+  for (int i = start; i < ssvp.first_count; i += share) first += vpl_light(first_vpls[i], x, n, weight, pixel_index, false);
   if (ssvp.bounces > 1)
-    for (int i = start; i < ssvp.second_count; i += share) second += vpl_light(second_vpls[i], x, n);
-  first *= float(share) / SSVP_PI;
-  second *= float(share) / SSVP_PI;
+    for (int i = start; i < ssvp.second_count; i += share)
+      second += vpl_light(second_vpls[i], x, n, weight, pixel_index, true);
   out_indirect = vec4(first + second, 0.0);
   out_second = vec4(second, 0.0);
 }

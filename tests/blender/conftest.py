@@ -310,6 +310,27 @@ class MissingChannels(Exception):
 PASS_ALIASES = {"DiffCol": ("Diffuse Color",), "DiffDir": ("Diffuse Direct",), "DiffInd": ("Diffuse Indirect",)}
 
 
+def thirds_over(image, reference):
+    """The mean of `image` over `reference`'s in the left, middle and right thirds of the view."""
+    width = image.shape[1]
+    return [float(image[:, a:b].mean() / reference[:, a:b].mean())
+            for a, b in ((0, width // 3), (width // 3, 2 * width // 3), (2 * width // 3, width))]
+
+
+def assert_ray_checks_reach_every_pair(what, rule, checked, every_pair, key):
+    """Ray Checks' image (`checked`) within 5 % of a shadow ray per pair's in every third of the view, finite and
+    never below zero; prints `rule`'s thirds beside it and records Ray Checks' under `key`."""
+    import numpy as np
+
+    assert np.all(np.isfinite(checked)) and checked.min() >= 0.0
+    rule_over_rays, checked_over_rays = thirds_over(rule, every_pair), thirds_over(checked, every_pair)
+    print(f"{what} over a shadow ray per pair, left / middle / right third: the rule "
+          + " / ".join(f"{t:.3f}" for t in rule_over_rays) + ", Ray Checks "
+          + " / ".join(f"{t:.3f}" for t in checked_over_rays))
+    record(key, [round(t, 4) for t in checked_over_rays])
+    assert all(abs(t - 1.0) < 0.05 for t in checked_over_rays)
+
+
 def layer_pass(channels, pass_name, components="RGB", layer="ViewLayer"):
     """An HxWxC array of one pass (e.g. 'Combined', 'RGB') from read_exr's dict."""
     import numpy as np

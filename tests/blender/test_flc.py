@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from conftest import layer_pass, read_exr, record
+from conftest import assert_ray_checks_reach_every_pair, layer_pass, read_exr, record, thirds_over
 
 # Closed sphere R = 2, albedo 0.8, 1000 W point light at the centre: E0 = P / (4 pi R^2), the first-bounce
 # irradiance is rho E0 (a uniformly radiating enclosure), and the outgoing first-bounce radiance, which the
@@ -100,24 +100,15 @@ def test_sponza_court_lights_its_far_wall_through_the_arcades(blender, sponza_bl
         info, _ = blender.render(config, out_dir / name, sponza_blend)
         return layer_pass(read_exr(info["exr"]), "Indirect")
 
-    def thirds(image, reference):
-        width = image.shape[1]
-        return [float(image[:, a:b].mean() / reference[:, a:b].mean())
-                for a, b in ((0, width // 3), (width // 3, 2 * width // 3), (2 * width // 3, width))]
     rule = indirect("flc", {"method": "FLC", "flc_visibility": True, "flc_ray_checks": 0.0})
     rays = indirect("rays", {"method": "TOPOLOGY", "topology_visibility": "SHADOW_RAYS"})
     assert np.all(np.isfinite(rule))
-    rule_thirds = thirds(rule, rays)
+    rule_thirds = thirds_over(rule, rays)
     print("Sponza's first bounce, Indirect Shadows over shadow rays, left / middle / right third: "
           + " / ".join(f"{t:.3f}" for t in rule_thirds))
     record("flc.sponza_indirect_shadows_over_shadow_rays_thirds", [round(t, 4) for t in rule_thirds])
     assert rule_thirds[1] > 0.88
     checked = indirect("flc-checked", {"method": "FLC", "flc_visibility": True})
     every_pair = indirect("flc-every-pair", {"method": "FLC", "flc_visibility": True, "flc_ray_checks": 1.0})
-    assert np.all(np.isfinite(checked)) and checked.min() >= 0.0
-    rule_over_rays, checked_over_rays = thirds(rule, every_pair), thirds(checked, every_pair)
-    print("Sponza's first bounce over FLC with a shadow ray per pair, left / middle / right third: the rule "
-          + " / ".join(f"{t:.3f}" for t in rule_over_rays) + ", Ray Checks "
-          + " / ".join(f"{t:.3f}" for t in checked_over_rays))
-    record("flc.sponza_ray_checks_over_every_pair_thirds", [round(t, 4) for t in checked_over_rays])
-    assert all(abs(t - 1.0) < 0.05 for t in checked_over_rays)
+    assert_ray_checks_reach_every_pair("Sponza's FLC first bounce", rule, checked, every_pair,
+                                       "flc.sponza_ray_checks_over_every_pair_thirds")

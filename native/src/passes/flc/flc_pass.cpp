@@ -38,22 +38,19 @@ constexpr GLintptr kDivergentDrawOffset = 4 * sizeof(uint32_t);
 constexpr int kNoiseSize = 256;
 constexpr std::size_t kVplBytes = 5 * 4 * sizeof(float);
 static_assert(sizeof(FlcPass::HostVpl) == kVplBytes);
-static_assert(sizeof(FlcPass::RayCheck) == 5 * 4 * sizeof(float));
 constexpr std::size_t kDivergentBytes = 4 * 4 * sizeof(float);
 constexpr uint32_t kInitialVplCapacity = 1u << 16;
 constexpr uint32_t kInitialDivergentCapacity = 1u << 12;
 constexpr int kMaxRegrowths = 8;
-constexpr uint64_t kTracedVplLight = 33;      // random streams: the VPLs' shadow rays (TracedDirectPass: 31, 32)
-constexpr uint64_t kVplRoulette = 34;         // and which candidates are kept
-constexpr uint64_t kRayMaps = 35;             // the directions of the ray maps' rays
-constexpr uint64_t kRayMapShare = 36;         // which sides get one, beyond kMaxRayMaps
-constexpr uint64_t kViewReach = 37;           // the view's probes a candidate's reach is measured at
-constexpr int kReachProbes = 16;              // of cpu::kProbesPerAxis^2, per candidate
-constexpr std::size_t kReachRays = 1 << 21;   // rays a sample at most, but one probe a candidate at least
-constexpr double kPowerShare = 0.5;           // of a candidate's importance kept by its power alone (defensive)
-constexpr GLuint kRayMapsBinding = 15;        // flc_splat.frag's FlcRayMaps
-constexpr GLuint kRayChecksBinding = 16;      // and its FlcRayChecks
-constexpr std::size_t kRayChecksHeader = 16;  // the count, padded to the array's alignment
+constexpr uint64_t kTracedVplLight = 33;     // random streams: the VPLs' shadow rays (TracedDirectPass: 31, 32)
+constexpr uint64_t kVplRoulette = 34;        // and which candidates are kept
+constexpr uint64_t kRayMaps = 35;            // the directions of the ray maps' rays
+constexpr uint64_t kRayMapShare = 36;        // which sides get one, beyond kMaxRayMaps
+constexpr uint64_t kViewReach = 37;          // the view's probes a candidate's reach is measured at
+constexpr int kReachProbes = 16;             // of cpu::kProbesPerAxis^2, per candidate
+constexpr std::size_t kReachRays = 1 << 21;  // rays a sample at most, but one probe a candidate at least
+constexpr double kPowerShare = 0.5;          // of a candidate's importance kept by its power alone (defensive)
+constexpr GLuint kRayMapsBinding = 15;       // flc_splat.frag's FlcRayMaps
 // Ray maps of a sample at most (2 KiB and FLC_RAY_MAP_BINS rays each): the budget's scenes make 80-180.
 constexpr std::size_t kMaxRayMaps = 8192;
 
@@ -441,61 +438,16 @@ void FlcPass::resize(int width, int height, const FlcParams& params) {
   gl::check("allocating the Forward Light Cuts targets");
 }
 
-void FlcPass::check_by_rays(const RayChecks& checks) {
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-  uint32_t count = 0;
-  glGetNamedBufferSubData(ray_checks_.id(), 0, sizeof count, &count);
-  ray_checks_wanted_ = std::max(ray_checks_wanted_, std::size_t(count));
-  checked_.resize(std::min(std::size_t(count), (ray_checks_bytes_ - kRayChecksHeader) / sizeof(RayCheck)));
-  if (checked_.empty()) return;
-  glGetNamedBufferSubData(ray_checks_.id(), kRayChecksHeader, GLsizeiptr(checked_.size() * sizeof(RayCheck)),
-                          checked_.data());
-  // The GPU appends in no fixed order: sorted, the sums are the same for a seed.
-  const auto key = [](const RayCheck& check) {
-    return std::tuple(check.pixel, std::bit_cast<uint32_t>(check.light_verdict.x),
-                      std::bit_cast<uint32_t>(check.light_verdict.y), std::bit_cast<uint32_t>(check.light_verdict.z));
-  };
-  std::sort(checked_.begin(), checked_.end(), [key](const RayCheck& a, const RayCheck& b) { return key(a) < key(b); });
-  const float offset = checks.scene.ray_offset();
-  seen_.resize(checked_.size());
-  parallel_for(checked_.size(), 0, 256, [&](std::size_t i) {
-    const RayCheck& check = checked_[i];
-    seen_[i] = checks.scene.clear_between(glm::vec3(check.light_verdict) + glm::vec3(check.light_normal) * offset,
-                                          glm::vec3(check.receiver) + glm::vec3(check.receiver_normal) * offset)
-                   ? 1.0f
-                   : 0.0f;
-  });
-  untiled_light_.resize(std::size_t(width_) * std::size_t(height_));
-  glGetTextureImage(untiled_.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(untiled_light_.size() * sizeof(glm::vec4)),
-                    untiled_light_.data());
-  const float weight = 1.0f / checks.share;
-  for (std::size_t i = 0; i < checked_.size(); ++i) {
-    const RayCheck& check = checked_[i];
-    if (check.pixel < untiled_light_.size())
-      untiled_light_[check.pixel] += glm::vec4(check.unshadowed * (weight * (seen_[i] - check.light_verdict.w)), 0.0f);
-  }
-  glTextureSubImage2D(untiled_.id(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, untiled_light_.data());
-  gl::check("Forward Light Cuts' ray checks");
-}
-
 void FlcPass::shade(const RenderContext& context, const GBuffer& gbuffer, const TopologyVisibilityPass* visibility,
-                    const std::optional<RayChecks>& checks) {
+                    const std::optional<RayCheckSettings>& checks) {
   if (vpl_count_ == 0) return;
   set_flc_image(params_, context.width, context.height);
   resize(context.width, context.height, params_);
   params_.visibility = visibility != nullptr;
   glNamedBufferSubData(params_buffer_.id(), 0, sizeof params_, &params_);
   if (visibility) visibility->bind();
-  if (visibility && checks) {
-    // A pixel checks about one pair a sample at the default share; a sample that asks for more than the buffer
-    // holds loses the rest of its checks (the rule's verdict stands for them) and grows it for the next.
-    const std::size_t wanted =
-        std::max({ray_checks_wanted_, std::size_t(context.width) * std::size_t(context.height), std::size_t(1024)});
-    gl::reserve_buffer(ray_checks_, ray_checks_bytes_, kRayChecksHeader + wanted * sizeof(RayCheck));
-    const uint32_t zero = 0;
-    glClearNamedBufferSubData(ray_checks_.id(), GL_R32UI, 0, sizeof zero, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRayChecksBinding, ray_checks_.id());
-  }
+  // A pixel checks about one pair a sample at the default share.
+  if (visibility && checks) ray_checks_.bind(std::size_t(context.width) * std::size_t(context.height));
   if (levels_depth_ != gbuffer.depth.id()) {
     levels_target_ = gl::make_framebuffer({levels_.id()}, gbuffer.depth.id());
     levels_depth_ = gbuffer.depth.id();
@@ -533,7 +485,7 @@ void FlcPass::shade(const RenderContext& context, const GBuffer& gbuffer, const 
   }
   if (visibility && checks) {
     StageScope scope(context.timer, Stage::FlcRayChecks);
-    check_by_rays(*checks);
+    ray_checks_.correct(*checks, untiled_.id(), 0, width_, height_);
   }
   {
     StageScope scope(context.timer, Stage::FlcResolve);

@@ -27,6 +27,7 @@
 #include "gl/objects.h"
 #include "passes/blur/geometry_blur.h"
 #include "passes/gbuffer/gbuffer_pass.h"
+#include "passes/ray_checks/ray_checks.h"
 #include "passes/render_context.h"
 #include "passes/topology_visibility/topology_visibility_pass.h"
 #include "scene_lights.h"
@@ -67,21 +68,12 @@ class FlcPass {
                         const TopologyVisibilityPass* visibility);
   // With `visibility` (Indirect Shadows), each VPL lights only what the topology's clusters and gates let it; with
   // `checks` too (Ray Checks), shadow rays in `checks->scene` correct the rule's verdict on a share of the pairs.
-  struct RayChecks {
-    const cpu::CpuScene& scene;
-    float share;  // of the light-pixel pairs, in (0, 1]
-  };
   void shade(const RenderContext& context, const GBuffer& gbuffer, const TopologyVisibilityPass* visibility,
-             const std::optional<RayChecks>& checks);
+             const std::optional<RayCheckSettings>& checks);
 
   bool active() const { return vpl_count_ > 0; }
   struct HostVpl {  // std430 mirror of shaders/flc/flc_common.glsl `Vpl`
     glm::vec4 position_scale, normal_level, albedo_random, front, back;
-  };
-  struct RayCheck {  // std430 mirror of flc_splat.frag's `FlcRayCheck`
-    glm::vec4 light_verdict, light_normal, receiver, receiver_normal;
-    glm::vec3 unshadowed;
-    uint32_t pixel;
   };
   GLuint indirect() const { return resolved_; }  // RGBA32F, the tile's size
   GLuint levels() const { return levels_.id(); }
@@ -100,9 +92,6 @@ class FlcPass {
   void trace_ray_maps(const RenderContext& context, const cpu::CpuScene& scene,
                       const TopologyVisibilityPass& visibility);
   void resize(int width, int height, const FlcParams& params);
-  // Ray Checks: the checked pairs' shadow rays, and each disagreement with the rule, over the share, added to the
-  // untiled light (a control variate whose expectation is the shadow rays' image).
-  void check_by_rays(const RayChecks& checks);
 
   gl::Program regular_, divergent_, lighting_, splat_, untile_, levels_program_;
   GeometryBlur blur_;
@@ -114,12 +103,7 @@ class FlcPass {
   std::vector<uint32_t> ray_maps_;
   gl::Buffer ray_maps_buffer_;
   std::size_t ray_maps_capacity_ = 0;  // words
-  gl::Buffer ray_checks_;              // the count (and padding to 16 bytes), then the RayChecks
-  std::size_t ray_checks_bytes_ = 0;
-  std::size_t ray_checks_wanted_ = 0;  // RayChecks: the most a sample asked for
-  std::vector<RayCheck> checked_;
-  std::vector<float> seen_;  // per checked pair, 1 where its shadow ray is clear
-  std::vector<glm::vec4> untiled_light_;
+  RayChecks ray_checks_;               // applied to the untiled light, before the blur
   gl::Texture noise_;
   FlcParams params_{};
   float max_tess_level_ = 64.0f;  // GL_MAX_TESS_GEN_LEVEL, queried once

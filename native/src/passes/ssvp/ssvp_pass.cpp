@@ -46,6 +46,7 @@ constexpr float kMinSecondCosine = 1e-2f;  // as MIN_COSINE in ssvp_propagate.co
 // (candidate_importance). With the coarse ones alone, the boxes on the budget's open ground (a tenth of the view)
 // got 0.93 of Cycles' first bounce (0.94 with four times the VPLs, 1.03 with 24 x 24 probes for every candidate).
 constexpr int kFineProbesPerAxis = 16;
+constexpr uint32_t kRayCheckStream = 41;  // which VPL-pixel pairs Ray Checks draws
 
 using GpuVpl = SsvpPass::GpuVpl;
 using Probe = cpu::ViewProbe;
@@ -438,9 +439,10 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   }
 }
 
-void SsvpPass::shade(const RenderContext& context, const GBuffer& camera) {
+void SsvpPass::shade(const RenderContext& context, const GBuffer& camera,
+                     const std::optional<RayCheckSettings>& checks) {
   if (!active()) return;
-  shade_vpls(context, camera);
+  shade_vpls(context, camera, checks);
   draw_debug(context, camera);
 }
 
@@ -730,7 +732,8 @@ void SsvpPass::propagate(const RenderContext& context) {
   gl::check("propagating the second-bounce VPLs");
 }
 
-void SsvpPass::shade_vpls(const RenderContext& context, const GBuffer& camera) {
+void SsvpPass::shade_vpls(const RenderContext& context, const GBuffer& camera,
+                          const std::optional<RayCheckSettings>& checks) {
   if (width_ != context.width || height_ != context.height) {
     shaded_total_ = gl::make_texture_2d(GL_RGBA32F, context.width, context.height);
     shaded_second_ = gl::make_texture_2d(GL_RGBA32F, context.width, context.height);
@@ -741,6 +744,10 @@ void SsvpPass::shade_vpls(const RenderContext& context, const GBuffer& camera) {
     height_ = context.height;
     gl::check("allocating the SSVP targets");
   }
+  params_.image_width = context.width;
+  params_.check_random = hash_combine(hash_combine(context.seed, context.sample), kRayCheckStream);
+  glNamedBufferSubData(params_buffer_.id(), 0, sizeof params_, &params_);
+  if (checks) ray_checks_.bind(std::size_t(context.width) * std::size_t(context.height));
   {
     StageScope scope(context.timer, Stage::SsvpShade);
     glBindFramebuffer(GL_FRAMEBUFFER, shade_target_.id());
@@ -754,6 +761,10 @@ void SsvpPass::shade_vpls(const RenderContext& context, const GBuffer& camera) {
     glBindTextureUnit(kParaboloidNormalUnit, paraboloid_normal_.id());
     glUseProgram(shade_program_.id());
     draw_fullscreen_triangle();
+  }
+  if (checks) {
+    StageScope scope(context.timer, Stage::SsvpRayChecks);
+    ray_checks_.correct(*checks, shaded_total_.id(), params_.bounces > 1 ? shaded_second_.id() : 0, width_, height_);
   }
   StageScope scope(context.timer, Stage::SsvpDenoise);
   const int radius = context.settings.ssvp_blur_radius;

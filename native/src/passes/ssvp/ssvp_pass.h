@@ -37,6 +37,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -46,6 +47,7 @@
 #include "gl/objects.h"
 #include "passes/blur/geometry_blur.h"
 #include "passes/gbuffer/gbuffer_pass.h"
+#include "passes/ray_checks/ray_checks.h"
 #include "passes/render_context.h"
 #include "passes/ssvp/ssvp_math.h"
 #include "scene_lights.h"
@@ -65,6 +67,8 @@ struct SsvpParams {
   int32_t second_per_cluster, bounces, pattern_rotation;
   int32_t first_offset;         // while sampling: where this light's VPLs start (first_count: how many)
   float texels_per_capped_vpl;  // RSM texels / all the sample's first-bounce VPLs: the area that caps them
+  int32_t image_width;          // while shading: the tile's
+  uint32_t check_random;        // while shading: which pairs Ray Checks draws, new every sample
 };
 
 class SsvpPass {
@@ -79,7 +83,7 @@ class SsvpPass {
   void generate(const RenderContext& context, const GBufferPass& gbuffers, const cpu::CpuScene* traced,
                 const SceneLights& sample_lights);
   // Per tile: the pixels of `camera` lit by the sample's VPLs, blurred; the debug view.
-  void shade(const RenderContext& context, const GBuffer& camera);
+  void shade(const RenderContext& context, const GBuffer& camera, const std::optional<RayCheckSettings>& checks);
 
   bool active() const { return first_count_ > 0; }
   GLuint indirect() const { return total_; }    // RGBA32F irradiance / pi, both bounces
@@ -118,11 +122,12 @@ class SsvpPass {
   std::vector<GpuVpl> read_propagated();
   void cluster_second_bounce(const RenderContext& context, std::vector<GpuVpl> vpls, const cpu::CpuScene* traced,
                              std::span<const cpu::ViewProbe> probes);
-  void shade_vpls(const RenderContext& context, const GBuffer& camera);
+  void shade_vpls(const RenderContext& context, const GBuffer& camera, const std::optional<RayCheckSettings>& checks);
   void draw_debug(const RenderContext& context, const GBuffer& camera);
 
   gl::Program sample_program_, paraboloid_program_, propagate_program_, shade_program_, debug_program_;
   GeometryBlur blur_total_, blur_second_;
+  RayChecks ray_checks_;  // applied to the shaded light, before the blur
   gl::Buffer params_buffer_, light_buffer_, points_, first_vpls_, clusters_buffer_, second_vpls_;
   gl::Readback first_vpls_readback_, second_vpls_readback_;
   std::size_t points_capacity_ = 0, first_capacity_ = 0, clusters_capacity_ = 0, second_capacity_ = 0;

@@ -110,6 +110,12 @@ std::vector<float> candidate_importance(std::span<const GpuVpl> candidates, std:
   return importance;
 }
 
+// A kept VPL carries the flux of 1 / (wanted x its probability) candidates, and stands for their area too, which caps
+// the light it gives (vpl_irradiance in ssvp_common.glsl) at its surface's exitance. With the candidate's own area,
+// the cap held a VPL drawn often (where the light reaches the view) to a fraction of that exitance and let one drawn
+// seldom give several times it: SSVP with Ray Checks, 96x54, 16 samples, seeds 0-2, the open ground's second bounce
+// 0.666 -> 0.805 of Cycles', Sponza's 0.894 -> 0.920, the two rooms' first bounce 1.034 -> 0.995 (Indirect relMSE
+// 4x4 0.00898 -> 0.00686).
 std::vector<GpuVpl> keep_by_importance(std::span<const GpuVpl> candidates, std::span<const float> importance,
                                        int wanted, float u) {
   // When no candidate reaches a probe (a room the main light's first bounce cannot enter), none is kept: the
@@ -119,6 +125,7 @@ std::vector<GpuVpl> keep_by_importance(std::span<const GpuVpl> candidates, std::
   for (const cpu::Draw& draw : cpu::resample(importance, wanted, /*uniform_share=*/0.0f, u)) {
     GpuVpl vpl = candidates[draw.index];
     vpl.flux = glm::vec4(glm::vec3(vpl.flux) * draw.weight, vpl.flux.w);
+    vpl.normal.w *= draw.weight;
     kept.push_back(vpl);
   }
   return kept;

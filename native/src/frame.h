@@ -61,26 +61,34 @@ struct Frame {
         for (float& value : aovs[aov]) value *= factor;
   }
 
-  // Sets every AOV value of a pixel whose channels are not all finite to zero; returns how many pixels had one
-  // (counted once however many of their AOVs did: the count is of the image's pixels).
   // Where signed corrections (Ray Checks, in Forward Light Cuts, SSVP and the Topology method) leave a pixel's mean
   // Indirect below zero (the light they took away was not there), it shows none: the deficit goes back into
   // Indirect and Combined, on the mean of the samples (clamped per sample, the image would keep the rule's excess
-  // wherever a check found one). The Second Bounce, a part of Indirect, shows none where its own mean is below zero.
+  // wherever a check found one). With the Second Bounce held, each bounce is clamped on its own, so that Indirect
+  // holds the Second Bounce and a one-bounce render's Indirect is the first bounce's here.
   void clamp_negative_indirect() {
-    if (holds(BOUNCE_AOV_SECOND_BOUNCE))
-      for (float& value : aovs[BOUNCE_AOV_SECOND_BOUNCE]) value = std::max(value, 0.0f);
     if (!holds(BOUNCE_AOV_INDIRECT)) return;
     const std::size_t indirect_channels = std::size_t(bounce_aov_channels(BOUNCE_AOV_INDIRECT));
     const std::size_t combined_channels = std::size_t(bounce_aov_channels(BOUNCE_AOV_COMBINED));
+    const std::size_t second_channels = std::size_t(bounce_aov_channels(BOUNCE_AOV_SECOND_BOUNCE));
+    const bool second_held = holds(BOUNCE_AOV_SECOND_BOUNCE);
     for (std::size_t i = 0; i < std::size_t(width) * std::size_t(height); ++i)
       for (std::size_t c = 0; c < 3; ++c) {
         float& indirect = aovs[BOUNCE_AOV_INDIRECT][indirect_channels * i + c];
-        if (!(indirect < 0.0f)) continue;
-        if (holds(BOUNCE_AOV_COMBINED)) aovs[BOUNCE_AOV_COMBINED][combined_channels * i + c] -= indirect;
-        indirect = 0.0f;
+        float first = indirect, second = 0.0f;
+        if (second_held) {
+          float& held_second = aovs[BOUNCE_AOV_SECOND_BOUNCE][second_channels * i + c];
+          first -= held_second;
+          held_second = second = std::max(held_second, 0.0f);
+        }
+        const float clamped = std::max(first, 0.0f) + second;
+        if (clamped == indirect) continue;
+        if (holds(BOUNCE_AOV_COMBINED)) aovs[BOUNCE_AOV_COMBINED][combined_channels * i + c] += clamped - indirect;
+        indirect = clamped;
       }
   }
+  // Sets every AOV value of a pixel whose channels are not all finite to zero; returns how many pixels had one
+  // (counted once however many of their AOVs did: the count is of the image's pixels).
   uint64_t zero_nonfinite() {
     std::vector<bool> bad(std::size_t(width) * height, false);
     for (int aov = 0; aov < BOUNCE_AOV_COUNT; ++aov) {

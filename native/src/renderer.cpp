@@ -345,8 +345,9 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
     }
     if (!tiles_take_turns && s + 1 < samples && schedule.publish_due(s + 1)) {
       auto partial = std::make_shared<Frame>();
-      // Ray Checks' clamp needs the Indirect pass.
-      const uint32_t clamped = plan.ray_checks > 0.0f ? aov_bits & (1u << BOUNCE_AOV_INDIRECT) : 0u;
+      // Ray Checks' clamp needs the Indirect pass, and the Second Bounce where the method has one.
+      const uint32_t clamped =
+          plan.ray_checks > 0.0f ? aov_bits & ((1u << BOUNCE_AOV_INDIRECT) | (1u << BOUNCE_AOV_SECOND_BOUNCE)) : 0u;
       const uint32_t read_back = schedule.partial_aovs(s + 1);
       partial->allocate(frame->width, frame->height, aov_bits & (read_back | clamped));
       read_frame(*partial, s + 1);

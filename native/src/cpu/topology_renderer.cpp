@@ -565,14 +565,14 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         put(aov, i, glm::value_ptr(value), 3);
       }
       const glm::vec3 indirect_mean = sums.indirect[i] * scale;
-      const glm::vec3 second_mean = glm::max(sums.second[i] * scale, 0.0f);
+      const glm::vec3 second_mean = sums.second[i] * scale;
       put(BOUNCE_AOV_INDIRECT, i, glm::value_ptr(indirect_mean), 3);
       put(BOUNCE_AOV_SECOND_BOUNCE, i, glm::value_ptr(second_mean), 3);
       put(BOUNCE_AOV_DEPTH, i, &sums.depth[i], 1);
       put(BOUNCE_AOV_TOPOLOGY, i, glm::value_ptr(topology_image[i]), 4);
     }
-    // Clamped on the mean, not per sample, which biased dark corners up (Sponza's gallery: its second bounce 1.14 of
-    // Cycles with each sample clamped, 1.06 with the rule alone).
+    // Each bounce clamped on its mean, not per sample, which biased dark corners up (Sponza's gallery: its second
+    // bounce 1.14 of Cycles with each sample clamped, 1.06 with the rule alone).
     frame->clamp_negative_indirect();
     frame->info.nonfinite_pixels = frame->zero_nonfinite();
     frame->info.vpl_count = vpls_.size();

@@ -16,10 +16,9 @@ struct FramePlan {
   Indirect indirect = Indirect::None;
   int bounces = 0;                // diffuse bounces simulated: the paper's one for FLC, SSVP two at most
   bool indirect_shadows = false;  // the topology's clusters and gates shadow Forward Light Cuts' VPLs
-  float ray_checks =
-      0.0f;                // the share of the light-pixel pairs whose visibility (FLC's rule, SSVP's maps) a ray checks
-  int vpl_candidates = 1;  // Forward Light Cuts' VPLs drawn per VPL kept by its light, once rays have lit them
-  bool vpl_importance = false;  // SSVP draws its VPLs where shadow rays say their light reaches the view
+  float ray_checks = 0.0f;        // the share of light-pixel pairs a shadow ray checks (FLC's rule, SSVP's maps)
+  int vpl_candidates = 1;         // Forward Light Cuts' VPLs drawn per VPL kept by its light, once rays have lit them
+  bool vpl_importance = false;    // SSVP draws its VPLs where shadow rays say their light reaches the view
   // The GL VPL methods' distance clamp takes the first bounce's light next to lit surfaces; the near field gives it
   // back: by Embree rays with the ray-traced direct light, else marched through the G-buffer (which misses
   // surfaces the camera does not see). Blurred over near_field_blur pixels, as the method blurs its indirect light.

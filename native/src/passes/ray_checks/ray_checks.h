@@ -27,7 +27,7 @@ class RayChecks {
  public:
   struct Pair {               // std430 mirror of shaders/ray_checks/ray_checks.glsl `RayCheck`
     glm::vec4 light_verdict;  // the light's position, the rule's verdict
-    glm::vec4 light_normal;   // w 1 where the pair's light is in `also` of correct()
+    glm::vec4 light_normal;   // w 1: the pair corrects correct()'s `also` too
     glm::vec4 receiver;       // the pixel's surface point
     glm::vec4 receiver_normal;
     glm::vec3 unshadowed;  // the light's share of the pixel, unshadowed

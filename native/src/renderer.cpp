@@ -300,13 +300,15 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
       const RenderContext context = context_of(tile, static_cast<uint32_t>(s), jitter, lights);
       if (tiles_take_turns) compose_.clear(0, tile.width, tile.height);
       gbuffer_.execute(context);
-      if (traced_direct)
-        traced_direct_.execute(context, gbuffer_.gbuffer(), cpu_scene_, scene_lights_,
-                               plan.near_field == FramePlan::NearField::RayTraced
-                                   ? TracedDirectPass::NearFieldRays{near_field_clamp, plan.near_field_bounces >= 2}
-                                   : TracedDirectPass::NearFieldRays{});
-      else
+      if (traced_direct) {
+        TracedDirectPass::NearFieldRays near_field_rays;
+        if (plan.near_field == FramePlan::NearField::RayTraced)
+          near_field_rays = {near_field_clamp, plan.near_field_bounces >= 2,
+                             ssvp ? ssvp_.first_bounce_candidates() : std::span<const cpu::Vpl>{}};
+        traced_direct_.execute(context, gbuffer_.gbuffer(), cpu_scene_, scene_lights_, near_field_rays);
+      } else {
         direct_.execute(context, gbuffer_.gbuffer(), shadows_);
+      }
       ComposePass::Indirect indirect;
       std::optional<RayCheckSettings> checks;
       if (plan.ray_checks > 0.0f) checks.emplace(RayCheckSettings{cpu_scene_, plan.ray_checks});
@@ -324,9 +326,9 @@ bool Renderer::render_method(const BounceSettings& settings, const BounceCamera&
         indirect.near_field =
             near_field_.smoothed(context, gbuffer_.gbuffer(), traced_direct_.near_field(), plan.near_field_blur);
         if (plan.near_field_bounces >= 2 && indirect.second_bounce != 0)
-          indirect.near_field_second = near_field_.second_bounce(context, traced_direct_.near_field_reflectance(),
-                                                                 traced_direct_.near_field_source(), indirect.light,
-                                                                 indirect.second_bounce, indirect.near_field);
+          indirect.near_field_second = near_field_.second_bounce(
+              context, traced_direct_.near_field_reflectance(), traced_direct_.near_field_source(),
+              traced_direct_.near_field_unseen(), indirect.light, indirect.second_bounce, indirect.near_field);
       }
       if (indirect.light != 0 && plan.near_field == FramePlan::NearField::FromGBuffer)
         indirect.near_field =

@@ -6,12 +6,13 @@
 // it: the Topology method's first bounce in Sponza with shadow rays was 0.943 of Cycles (0.884 in the right
 // third), 1.013 with it. The second bounce's share (y's own first-bounce light) is given back by the renderer
 // that has gathered that light where the camera sees y (NearField::reflectance times it, at first_bounce_pixel),
-// and estimates it from its VPLs where no pixel does.
+// and estimates it from its VPLs where no pixel does (UnseenFirstBounce).
 #pragma once
 
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
@@ -20,6 +21,7 @@
 #include "cpu/cpu_scene.h"
 #include "cpu/direct_light.h"
 #include "cpu/random.h"
+#include "cpu/vpls.h"
 
 namespace bounce::cpu {
 
@@ -60,5 +62,28 @@ std::optional<std::size_t> first_bounce_pixel(const NearField& y, std::size_t ow
   if (surface && glm::dot(surface->normal, y.normal) > kSameFacing) return own;
   return std::nullopt;
 }
+
+// The first-bounce irradiance at y where no pixel sees y (the far side of a box on the ground, the ground under its
+// edge): a few of the sample's first-bounce VPLs, drawn by the light they give y unshadowed, with shadow rays,
+// estimate their light there without bias, and a near-field ray of y's own what its clamp takes. With none, the
+// open ground's second bounce was 0.82 of Cycles' in the Topology method; drawn evenly, a VPL within the clamp of y
+// took the Cornell box's Indirect relMSE from 5.9e-5 to 1.8e-4.
+class UnseenFirstBounce {
+ public:
+  // `vpls`: the sample's (those of bounce 1 light y); `clamp`: their distance clamp (vpl_irradiance), and y's near
+  // field's.
+  UnseenFirstBounce(std::span<const Vpl> vpls, float clamp);
+  // `progression` and `rng`: the near-field ray's, and the draws'.
+  glm::vec3 at(const CpuScene& scene, const NearField& y, std::span<const BounceLight> lights, const ShadowRays& rays,
+               const WorldStrategies& world, const Progression& progression, Rng& rng) const;
+
+ private:
+  // The first-bounce VPLs that carry light, their positions, normals and power summed over the channels in arrays
+  // of their own: every point weighs them all (Sponza at 1280x720: 55,000 points a sample, 1,750 candidates).
+  std::vector<float> x_, y_, z_, nx_, ny_, nz_, power_;
+  std::vector<float> cap_;         // of the geometry term: pi / area, or infinity
+  std::vector<glm::vec3> colour_;  // power / its sum
+  float clamp_;
+};
 
 }  // namespace bounce::cpu

@@ -30,7 +30,6 @@ using topology::kNoNode;
 constexpr int kDepthSlices = 16;           // clustered shading's exponential depth slices (Olsson et al. 2012)
 constexpr float kBackgroundDepth = 1e10f;  // Blender's Depth pass value where nothing is hit
 constexpr float kEmitterMargin = 1e-4f;    // of the scene's radius: the surfaces a segment ends on (FLC's margin)
-constexpr int kUnseenNearFieldVpls = 16;   // VPLs that estimate the first bounce where no pixel sees it
 enum Purpose : uint64_t {
   kDirectLight = 21,
   kVplResampling = 22,
@@ -838,6 +837,8 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
       const auto first_bounce = [&](std::size_t i) {
         return recombined[i].all - recombined[i].second + near[i].irradiance;
       };
+      const UnseenFirstBounce unseen(two_bounces && clamp > 0.0f ? std::span<const Vpl>(vpls_) : std::span<const Vpl>{},
+                                     clamp);
       // The first-bounce irradiance at y, the surface a pixel's near-field ray met.
       const auto first_bounce_at = [&](std::size_t i, const NearField& y) -> glm::vec3 {
         std::optional<glm::dvec2> point =
@@ -849,43 +850,9 @@ bool TopologyRenderer::render(const GpuScene& scene, SceneLights& scene_lights, 
         };
         if (const std::optional<std::size_t> j = first_bounce_pixel(y, i, point, width, height, clamp, seen))
           return first_bounce(*j);
-        // No pixel sees y (the far side of a box on the ground, the ground under its edge): a few of the sample's
-        // first-bounce VPLs, drawn by the light they give y unshadowed, with shadow rays, estimate their light there
-        // without bias, and a near-field ray of y's own what its clamp takes. With none, the open ground's second
-        // bounce was 0.82 of Cycles'; drawn evenly, a VPL within the clamp of y took the Cornell box's Indirect
-        // relMSE from 5.9e-5 to 1.8e-4.
-        thread_local std::vector<glm::vec3> unshadowed;
-        unshadowed.resize(vpls_.size());
-        double total = 0.0;
-        for (std::size_t l = 0; l < vpls_.size(); ++l) {
-          unshadowed[l] =
-              vpls_[l].bounce == 1 ? vpl_irradiance(vpls_[l], y.position, y.normal, clamp) : glm::vec3(0.0f);
-          total += double(unshadowed[l].r + unshadowed[l].g + unshadowed[l].b);
-        }
         Rng rng(seed, kUnseenNearField, (uint64_t(s) << 40) ^ i);
         const Progression progression{mix(uint64_t(seed) ^ mix(kUnseenNearField)) ^ i, uint32_t(s)};
-        const Surface y_surface{y.position, y.normal, y.normal, glm::vec3(0.0f), glm::vec3(0.0f)};
-        const glm::vec3 own_near =
-            near_field(scene_, y_surface, lights, direct_rays, world_strategies, clamp, progression, rng).irradiance;
-        if (!(total > 0.0) || !std::isfinite(total)) return own_near;
-        const double start = double(rng.next());
-        glm::vec3 sum(0.0f);
-        double cumulative = 0.0;
-        std::size_t l = 0;
-        for (int k = 0; k < kUnseenNearFieldVpls; ++k) {
-          const double target = (double(k) + start) / kUnseenNearFieldVpls * total;
-          for (; l + 1 < vpls_.size(); ++l) {
-            const double next = cumulative + double(unshadowed[l].r + unshadowed[l].g + unshadowed[l].b);
-            if (next > target) break;
-            cumulative = next;
-          }
-          const float light = unshadowed[l].r + unshadowed[l].g + unshadowed[l].b;
-          if (!(light > 0.0f)) continue;
-          const Vpl& vpl = vpls_[l];
-          if (scene_.clear_between(vpl.position + vpl.normal * offset, y.position + y.normal * offset))
-            sum += unshadowed[l] * float(total / double(light));
-        }
-        return sum / float(kUnseenNearFieldVpls) + own_near;
+        return unseen.at(scene_, y, lights, direct_rays, world_strategies, progression, rng);
       };
       parallel_for(std::size_t(height), 0, 1, [&](std::size_t row) {
         for (std::size_t i = row * std::size_t(width); i < (row + 1) * std::size_t(width); ++i) {

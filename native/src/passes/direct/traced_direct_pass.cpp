@@ -15,6 +15,7 @@ namespace {
 
 constexpr uint64_t kTracedDirect = 31;  // random stream of the shadow rays
 constexpr uint64_t kNearField = 32;     // of the near field's rays
+constexpr uint64_t kUnseen = 33;        // of the rays that light what the near field's rays meet unseen
 
 }  // namespace
 
@@ -57,6 +58,7 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
       near_field_ = gl::make_texture_2d(GL_RGBA32F, width, height);
       near_field_reflectance_ = gl::make_texture_2d(GL_RGBA32F, width, height);
       near_field_source_ = gl::make_texture_2d(GL_R32I, width, height);
+      near_field_unseen_ = gl::make_texture_2d(GL_RGBA32F, width, height);
       width_ = width;
       height_ = height;
     }
@@ -83,8 +85,11 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
     if (near_field.second_bounce) {
       near_reflectance_.assign(pixels, glm::vec4(0.0f));
       near_source_.assign(pixels, -1);
+      near_unseen_.assign(pixels, glm::vec4(0.0f));
     }
     const glm::dmat4 world_to_clip(context.view_projection);
+    const cpu::UnseenFirstBounce unseen(
+        near_field.second_bounce ? near_field.first_bounce_vpls : std::span<const cpu::Vpl>{}, near_field.clamp);
     const auto seen = [&](std::size_t j) {
       return albedo[j].a != 0.0f
                  ? std::optional<cpu::SeenSurface>({glm::vec3(position[j]), glm::normalize(glm::vec3(normal[j]))})
@@ -101,6 +106,10 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
                    if (j) {
                      near_reflectance_[i] = glm::vec4(y.reflectance, 0.0f);
                      near_source_[i] = int32_t(*j);
+                   } else if (!near_field.first_bounce_vpls.empty()) {
+                     const cpu::Progression own{cpu::mix(progression.key ^ cpu::mix(kUnseen)), progression.sample};
+                     near_unseen_[i] =
+                         glm::vec4(y.reflectance / kPi * unseen.at(scene, y, lights, rays, world, own, rng), 0.0f);
                    }
                  }
                  return glm::vec4(y.irradiance / kPi, 0.0f);
@@ -110,6 +119,7 @@ void TracedDirectPass::execute(const RenderContext& context, const GBuffer& gbuf
       glTextureSubImage2D(near_field_reflectance_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT,
                           near_reflectance_.data());
       glTextureSubImage2D(near_field_source_.id(), 0, 0, 0, width, height, GL_RED_INTEGER, GL_INT, near_source_.data());
+      glTextureSubImage2D(near_field_unseen_.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, near_unseen_.data());
     }
   }
   gbuffer_readback_.release();

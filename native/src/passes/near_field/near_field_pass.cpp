@@ -42,8 +42,8 @@ GLuint NearFieldPass::smoothed(const RenderContext& context, const GBuffer& gbuf
   return blur_.run(traced, gbuffer, blur_radius);
 }
 
-GLuint NearFieldPass::second_bounce(const RenderContext& context, GLuint reflectance, GLuint source, GLuint indirect,
-                                    GLuint second, GLuint near_field) {
+GLuint NearFieldPass::second_bounce(const RenderContext& context, GLuint reflectance, GLuint source, GLuint unseen,
+                                    GLuint indirect, GLuint second, GLuint near_field) {
   StageScope scope(context.timer, Stage::NearField);
   fit(context);
   glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
@@ -53,6 +53,7 @@ GLuint NearFieldPass::second_bounce(const RenderContext& context, GLuint reflect
   glBindTextureUnit(10, indirect);
   glBindTextureUnit(11, second);
   glBindTextureUnit(12, near_field);
+  glBindTextureUnit(13, unseen);
   glUseProgram(second_program_.id());
   draw_fullscreen_triangle();
   return light_.id();

@@ -24,11 +24,12 @@ class NearFieldPass {
   // The second bounce's light next to lit surfaces (irradiance / pi; valid until the next call): each pixel's ray
   // met a surface y of `reflectance` that receives the first-bounce irradiance of pixel `source`
   // (TracedDirectPass::near_field_reflectance and near_field_source), there `indirect` (both bounces) less `second`
-  // plus `near_field` (this pass's first bounce), all irradiance / pi. Not blurred: its inputs are, and a blur of
+  // plus `near_field` (this pass's first bounce), all irradiance / pi; where no pixel's is, `unseen`
+  // (TracedDirectPass::near_field_unseen). Not blurred: its inputs are, and a blur of
   // its own cost 200-250 ms of a 1280x720 sample on llvmpipe for no gain measured (Sponza's second-bounce relMSE
   // 4x4 1.31e-5 without, 1.33e-5 with).
-  GLuint second_bounce(const RenderContext& context, GLuint reflectance, GLuint source, GLuint indirect, GLuint second,
-                       GLuint near_field);
+  GLuint second_bounce(const RenderContext& context, GLuint reflectance, GLuint source, GLuint unseen, GLuint indirect,
+                       GLuint second, GLuint near_field);
 
  private:
   // Allocates light_ and target_ at the context's size.

@@ -363,6 +363,7 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   first_count_ = second_count_ = 0;
   main_light_ = -1;
   clusters_.clear();
+  first_bounce_candidates_.clear();
   const glm::vec3 lo = context.scene.bounds_min(), hi = context.scene.bounds_max();
   const float scene_radius = context.scene.radius();
   if (!context.scene.has_geometry() || !(scene_radius > 0.0f) || !std::isfinite(scene_radius)) return;
@@ -616,6 +617,11 @@ std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::C
   previous_clusters_ = clusters_;
 
   const std::vector<GpuCluster> first_clusters = gpu_clusters(first);
+  for (const GpuVpl& vpl : candidates)
+    first_bounce_candidates_.push_back(cpu::Vpl{.position = glm::vec3(vpl.position_cluster),
+                                                .normal = glm::vec3(vpl.normal),
+                                                .power = glm::vec3(vpl.flux),
+                                                .area = vpl.normal.w});
   first_count_ = static_cast<uint32_t>(vpls.size());
   p.first_count = static_cast<int32_t>(first_count_);
   p.cluster_count = static_cast<int32_t>(clusters_.size());

@@ -93,6 +93,10 @@ class SsvpPass {
   uint32_t cluster_count() const { return static_cast<uint32_t>(clusters_.size()); }
   // Index in the sample's lights of the one drawn most often to bounce.
   int main_light() const { return main_light_; }
+  // The sample's first-bounce candidates, capped by their areas as the shading pass caps the VPLs: they estimate
+  // the first bounce where the near field's rays meet a surface no pixel sees (cpu::UnseenFirstBounce). Not the
+  // VPLs kept by importance, which are drawn by the light they give what the camera sees.
+  std::span<const cpu::Vpl> first_bounce_candidates() const { return first_bounce_candidates_; }
 
  private:
   struct Rsm {
@@ -152,6 +156,7 @@ class SsvpPass {
   std::vector<float> candidate_weights_;               // 1 / the guide's density there
   std::vector<cpu::EmissionGuide*> candidate_guides_;  // their light's guide (null: none)
   std::vector<cpu::EmissionGuide*> sample_guides_;     // the guides of this sample's lights
+  std::vector<cpu::Vpl> first_bounce_candidates_;
   std::vector<ssvp::Cluster> clusters_, previous_clusters_;
   std::vector<ssvp::Cluster> second_clusters_, previous_second_clusters_;  // their maps follow the first's
   uint32_t first_count_ = 0, second_count_ = 0;

@@ -152,7 +152,9 @@ double bounce_bias(const BounceSettings& settings) {
       // was within a factor of 2 of the measured error on 8 of the 12 scenes, 5 times too high on the Cornell boxes.
       return 0.024;
     case BOUNCE_METHOD_SSVP:
-      return 0.29;  // paraboloid visibility of a few clusters (latest median 0.046)
+      // With Ray Checks and the second bounce's near field (bd7c36b): 0.018, which puts SSVP's estimates within a
+      // factor of 2 of the measured error on 9 of the 12 scenes, where 0.29 (its maps alone) put 8.
+      return 0.018;
     case BOUNCE_METHOD_FLC:
       // Indirect Shadows: the topology's clusters and gates, with Ray Checks (latest median 0.16, from 0 to 2.4).
       // Without them light passes every wall: 1.28, from 0.05 (the Cornell box) to 26 (two rooms).

@@ -51,8 +51,9 @@ glm::vec3 UnseenFirstBounce::at(const CpuScene& scene, const NearField& y, std::
   const Surface y_surface{y.position, y.normal, y.normal, glm::vec3(0.0f), glm::vec3(0.0f)};
   const glm::vec3 own_near = near_field(scene, y_surface, lights, rays, world, clamp_, progression, rng).irradiance;
   const std::size_t count = power_.size();
-  // The irradiance (summed over the channels) each VPL gives y unshadowed, as vpl_irradiance gives it, in a loop
-  // the compiler vectorizes (CMakeLists.txt).
+  // The irradiance (summed over the channels) each VPL gives y unshadowed, clamped as cpu::vpl_irradiance and
+  // capped as the shading pass's vpl_irradiance (ssvp_common.glsl), in a loop the compiler vectorizes
+  // (CMakeLists.txt).
   thread_local std::vector<float> light;
   light.resize(count);
   const float clamp2 = clamp_ * clamp_;

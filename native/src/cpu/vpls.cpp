@@ -359,9 +359,7 @@ glm::vec3 vpl_irradiance(const Vpl& vpl, glm::vec3 x, glm::vec3 n, float clamp) 
   // The cosines times the squared distance, so that no square root is taken.
   const float along_vpl = glm::dot(vpl.normal, to_x), along_x = -glm::dot(n, to_x);
   if (along_vpl <= 0.0f || along_x <= 0.0f) return glm::vec3(0.0f);
-  float geometry = along_vpl * along_x / d2 / std::max(d2, clamp * clamp);
-  if (vpl.area > 0.0f) geometry = std::min(geometry, kPi / vpl.area);
-  return vpl.power * (geometry / kPi);
+  return vpl.power * (along_vpl * along_x / d2 / (kPi * std::max(d2, clamp * clamp)));
 }
 
 }  // namespace bounce::cpu

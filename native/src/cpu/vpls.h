@@ -25,8 +25,9 @@ struct Vpl {
   uint32_t bounce = 1;       // 1: lit straight by a lamp
   uint32_t light = 0;        // the index of the light its path left
   glm::vec2 emission{0.0f};  // the point of the light's emission square its path left from (EmissionGuide)
-  // The area of the surface it stands for (a GL method's RSM texels): its geometry term is capped at pi / area, as
-  // vpl_irradiance in shaders/ssvp/ssvp_common.glsl caps it. 0: no cap (the Topology method's paths).
+  // The area of the surface it stands for (a GL method's RSM texels), which caps its geometry term at pi / area in
+  // UnseenFirstBounce (cpu/near_field.h), as vpl_irradiance in shaders/ssvp/ssvp_common.glsl caps it. 0: no cap
+  // (the Topology method's paths). cpu::vpl_irradiance, whose callers have no area, leaves it out.
   float area = 0.0f;
 };
 
@@ -197,7 +198,7 @@ constexpr int kProbesPerAxis = 8;      // view samples the importance is measure
 glm::vec3 light_power(const BounceLight& light, float scene_radius);
 
 // Irradiance (W/m^2 per channel) the VPL gives a point at x with unit normal n, unshadowed; distances below
-// `clamp` count as `clamp`, and the geometry term is capped by the VPL's area.
+// `clamp` count as `clamp`.
 glm::vec3 vpl_irradiance(const Vpl& vpl, glm::vec3 x, glm::vec3 n, float clamp);
 
 }  // namespace bounce::cpu

@@ -71,6 +71,10 @@ glm::vec2 sample_rotation(const RenderContext& context) {
                                             hash_to_unit(hash_combine(context.seed, 0x5354u))));
 }
 
+// The clusters of each bounce (the Clusters setting; the paper uses 4-32), the second's too, also when the first
+// bounce keeps no VPL.
+int clusters_per_bounce(const BounceSettings& settings) { return std::clamp(settings.ssvp_clusters, 1, 256); }
+
 // The seed of a sample's view samples and of its draws by importance.
 uint32_t importance_key(const RenderContext& context) {
   return hash_combine(context.seed, context.sample ^ 0x494d5054u);
@@ -426,7 +430,7 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   }
   // Traced with VPL Importance, else propagated below.
   std::vector<GpuVpl> second = cluster(context, traced, probes, fine_probes);
-  if (clusters_.empty()) {
+  if (clusters_.empty() && second.empty()) {
     first_count_ = 0;
     return;
   }
@@ -434,7 +438,7 @@ void SsvpPass::generate(const RenderContext& context, const GBufferPass& gbuffer
   // tests it from the eye of the first-bounce cluster nearest it: it then lit only what that eye sees, and a
   // Cornell box's second bounce was 0.78 of Cycles', 1.03 unshadowed; 0.88 with their own maps).
   const int first_layers = static_cast<int>(clusters_.size());
-  allocate_paraboloids(context, p.bounces > 1 ? 2 * first_layers : first_layers);
+  allocate_paraboloids(context, first_layers + (p.bounces > 1 ? clusters_per_bounce(context.settings) : 0));
   render_paraboloids(context, 0, first_layers);
   second_clusters_.clear();
   if (p.bounces > 1) {
@@ -507,7 +511,7 @@ void SsvpPass::prepare_candidates(const RenderContext& context, uint32_t count) 
   SsvpParams& p = params_;
   // The second bounce's disk points follow the first-bounce points in the same buffer, once cluster() knows
   // how many of those found a surface.
-  const int clusters_wanted = std::clamp(context.settings.ssvp_clusters, 1, 256);
+  const int clusters_wanted = clusters_per_bounce(context.settings);
   p.second_per_cluster =
       std::max(kMinSecondPerCluster,
                (std::clamp(context.settings.ssvp_second_vpls, 1, 1 << 16) + clusters_wanted - 1) / clusters_wanted);
@@ -613,8 +617,11 @@ std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::C
                    context.settings.ssvp_temporal_seeding ? previous_clusters_ : std::vector<ssvp::Cluster>(),
                    hash_combine(context.seed, 0x4b4du), kCentreLift * p.length_scale, traced, probes, p.epsilon, 0);
   clusters_ = first.clusters;
-  if (clusters_.empty()) return {};
-  previous_clusters_ = clusters_;
+  // With VPL Importance a sample may keep no first-bounce VPL (no candidate lights what the camera sees: a floor
+  // seen from above under a sun straight above) and still have a second bounce: the candidates light surfaces out
+  // of the view, which light the view.
+  if (clusters_.empty() && second.empty()) return {};
+  if (!clusters_.empty()) previous_clusters_ = clusters_;
 
   const std::vector<GpuCluster> first_clusters = gpu_clusters(first);
   for (const GpuVpl& vpl : candidates)
@@ -632,7 +639,8 @@ std::vector<GpuVpl> SsvpPass::cluster(const RenderContext& context, const cpu::C
                        static_cast<GLsizeiptr>(disk_points_.size() * sizeof(glm::vec2)), disk_points_.data());
   gl::upload_buffer(first_vpls_, first_capacity_, vpls.size() * sizeof(GpuVpl), vpls.data());
   // Room for the second bounce's own clusters after these (cluster_second_bounce).
-  gl::reserve_buffer(clusters_buffer_, clusters_capacity_, 2 * first_clusters.size() * sizeof(GpuCluster));
+  gl::reserve_buffer(clusters_buffer_, clusters_capacity_,
+                     (first_clusters.size() + std::size_t(clusters_per_bounce(context.settings))) * sizeof(GpuCluster));
   glNamedBufferSubData(clusters_buffer_.id(), 0, static_cast<GLsizeiptr>(first_clusters.size() * sizeof(GpuCluster)),
                        first_clusters.data());
   if (!traced) gl::reserve_buffer(second_vpls_, second_capacity_, second_count_ * sizeof(GpuVpl));
@@ -652,7 +660,7 @@ void SsvpPass::cluster_second_bounce(const RenderContext& context, std::vector<G
   const ssvp::ClusterMetric metric{p.w1, p.w2, p.length_scale};
   const uint32_t offset = static_cast<uint32_t>(clusters_.size());
   const VplClusters second = cluster_vpls(
-      vpls, static_cast<int>(clusters_.size()), metric,
+      vpls, clusters_per_bounce(context.settings), metric,
       context.settings.ssvp_temporal_seeding ? previous_second_clusters_ : std::vector<ssvp::Cluster>(),
       hash_combine(context.seed, 0x4b4d32u), kCentreLift * p.length_scale, traced, probes, p.epsilon, offset);
   second_clusters_ = second.clusters;

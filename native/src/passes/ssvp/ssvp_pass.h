@@ -85,7 +85,7 @@ class SsvpPass {
   // Per tile: the pixels of `camera` lit by the sample's VPLs, blurred; the debug view.
   void shade(const RenderContext& context, const GBuffer& camera, const std::optional<RayCheckSettings>& checks);
 
-  bool active() const { return first_count_ > 0; }
+  bool active() const { return first_count_ + second_count_ > 0; }
   GLuint indirect() const { return total_; }    // RGBA32F irradiance / pi, both bounces
   GLuint second() const { return second_; }     // RGBA32F irradiance / pi, the second bounce alone (0: off)
   GLuint debug() const { return debug_.id(); }  // RGBA16F
